@@ -1,0 +1,219 @@
+"""Whole-script checks, after parsing: definitions, names, recursion, limits.
+
+Local checks (units, ranges, part names) happen in the parser where the
+tokens are; what needs the whole script happens here.
+"""
+
+from __future__ import annotations
+
+from typing import Any, Dict, Iterator, List, Sequence, Set, Tuple
+
+from . import nodes as n
+from .diagnostics import Diagnostic, did_you_mean
+from .tables import EMOTIONS, LIMITS, TIMING
+from .vocabulary import BARE_WORDS, KEYWORDS, LEGACY_USAGE
+
+
+def check(body: Sequence[Any]) -> List[Diagnostic]:
+    """Every whole-script problem in `body`, as diagnostics."""
+    out: List[Diagnostic] = []
+    definitions = _definitions(body, out)
+    _check_calls(body, definitions, out)
+    order = _call_order(definitions, out)
+    if order is not None:
+        _check_limits(body, definitions, order, out)
+    return out
+
+
+def walk(body: Sequence[Any]) -> Iterator[Any]:
+    """Every statement in `body`, blocks' contents included, depth first."""
+    for statement in body:
+        yield statement
+        if isinstance(statement, n.BLOCKS):
+            yield from walk(statement.body)
+
+
+def _error(out: List[Diagnostic], node: Any, message: str) -> None:
+    out.append(Diagnostic(node.pos.line, node.pos.column, message))
+
+
+def _definitions(body: Sequence[Any], out: List[Diagnostic]) -> Dict[str, n.Define]:
+    found: Dict[str, n.Define] = {}
+    for statement in body:
+        if not isinstance(statement, n.Define):
+            continue
+        name = statement.name
+        if name in found:
+            first = found[name].pos.line
+            _error(out, statement, f"'{name}' is already defined on line {first}")
+        elif name in BARE_WORDS or name in KEYWORDS or _legacy_command(name):
+            _error(out, statement, f"'{name}' is a built-in command; choose another name")
+        else:
+            found[name] = statement
+        for inner in walk(statement.body):
+            if isinstance(inner, n.Define):
+                _error(out, inner, "'define' is only allowed at the top level of a script")
+    for statement in body:
+        if isinstance(statement, (n.Repeat, n.Together)):
+            for inner in walk(statement.body):
+                if isinstance(inner, n.Define):
+                    _error(out, inner, "'define' is only allowed at the top level of a script")
+    return found
+
+
+def _legacy_command(name: str) -> str:
+    """The legacy command a word starts like (`look_a_b` -> `look`), or ''."""
+    head = name.rsplit("_", 1)[0]
+    while head:
+        if head in LEGACY_USAGE and name.startswith(head + "_"):
+            return head
+        if "_" not in head:
+            return ""
+        head = head.rsplit("_", 1)[0]
+    return ""
+
+
+def _check_calls(body: Sequence[Any], definitions: Dict[str, n.Define], out: List[Diagnostic]) -> None:
+    used: Set[str] = set()
+    for statement in walk(body):
+        if not isinstance(statement, n.Call):
+            continue
+        name = statement.name
+        used.add(name)
+        if name in definitions:
+            continue
+        legacy = _legacy_command(name)
+        if legacy:
+            usage = LEGACY_USAGE[legacy][1]
+            _error(out, statement, f"'{name}' is not a valid legacy command; write {usage}, with numbers")
+        else:
+            known = list(BARE_WORDS) + list(KEYWORDS) + list(definitions)
+            _error(out, statement, f"unknown command '{name}'{did_you_mean(name, known)}")
+    for name, definition in definitions.items():
+        if name not in used:
+            pos = definition.pos
+            out.append(Diagnostic(pos.line, pos.column, f"'{name}' is defined but never used", "warning"))
+
+
+def _calls_in(body: Sequence[Any]) -> List[n.Call]:
+    return [s for s in walk(body) if isinstance(s, n.Call)]
+
+
+def _call_order(definitions: Dict[str, n.Define], out: List[Diagnostic]) -> Any:
+    """Definitions ordered callees first, or None if one calls itself.
+
+    Iterative depth-first search, so a long chain of definitions cannot
+    exhaust Python's stack.
+    """
+    order: List[str] = []
+    state: Dict[str, int] = {}  # 1 = on the current path, 2 = done
+    recursive = False
+    for root in definitions:
+        if state.get(root):
+            continue
+        path: List[str] = [root]
+        stack: List[Iterator[n.Call]] = [iter(_calls_in(definitions[root].body))]
+        state[root] = 1
+        while stack:
+            call = next(stack[-1], None)
+            if call is None:
+                stack.pop()
+                done = path.pop()
+                state[done] = 2
+                order.append(done)
+                continue
+            callee = call.name
+            if callee not in definitions or state.get(callee) == 2:
+                continue
+            if state.get(callee) == 1:
+                cycle = path[path.index(callee) :] + [callee]
+                chain = " -> ".join(cycle)
+                _error(
+                    out, definitions[callee], f"'{callee}' calls itself ({chain}); definitions cannot recurse"
+                )
+                recursive = True
+                continue
+            state[callee] = 1
+            path.append(callee)
+            stack.append(iter(_calls_in(definitions[callee].body)))
+    return None if recursive else order
+
+
+# -- length and size -------------------------------------------------------
+
+
+def statement_seconds(statement: Any) -> float:
+    """How long one simple statement takes on the script's clock."""
+    if isinstance(statement, n.Emotion):
+        return EMOTIONS[statement.name].lid_seconds
+    if isinstance(statement, n.Wait):
+        return statement.duration
+    if isinstance(statement, n.Blink):
+        return TIMING.blink_close + TIMING.blink_open
+    if isinstance(statement, n.Nod):
+        return TIMING.nod
+    default = {n.Look: TIMING.look, n.Wobble: TIMING.wobble, n.Eyelids: TIMING.eyelids}.get(type(statement))
+    if default is not None:
+        return default if statement.duration is None else statement.duration
+    return 0.0
+
+
+Measure = Tuple[float, int]  # (seconds, steps once unrolled)
+
+
+def measure(body: Sequence[Any], called: Dict[str, Measure]) -> Measure:
+    """Length and unrolled size of a sequence; `called` measures definitions."""
+    seconds, steps = 0.0, 0
+    for statement in body:
+        s, k = _measure_one(statement, called)
+        seconds, steps = seconds + s, steps + k
+    return seconds, steps
+
+
+def _measure_one(statement: Any, called: Dict[str, Measure]) -> Measure:
+    if isinstance(statement, n.Define):
+        return 0.0, 0
+    if isinstance(statement, n.Call):
+        return called.get(statement.name, (0.0, 0))
+    if isinstance(statement, n.Repeat):
+        seconds, steps = measure(statement.body, called)
+        return statement.count * seconds, statement.count * steps
+    if isinstance(statement, n.Together):
+        parts = [_measure_one(child, called) for child in statement.body]
+        return max((p[0] for p in parts), default=0.0), sum(p[1] for p in parts)
+    return statement_seconds(statement), 1
+
+
+def _check_limits(
+    body: Sequence[Any], definitions: Dict[str, n.Define], order: List[str], out: List[Diagnostic]
+) -> None:
+    called: Dict[str, Measure] = {}
+    for name in order:
+        called[name] = measure(definitions[name].body, called)
+    seconds, steps = 0.0, 0
+    for statement in body:
+        s, k = _measure_one(statement, called)
+        seconds, steps = seconds + s, steps + k
+        if seconds > LIMITS.max_seconds:
+            total = measure(body, called)[0]
+            _error(
+                out,
+                statement,
+                f"the script runs {_duration(total)}; the limit is {_duration(LIMITS.max_seconds)}",
+            )
+            return
+        if steps > LIMITS.max_steps:
+            total_steps = measure(body, called)[1]
+            _error(
+                out, statement, f"the script unrolls to {total_steps} steps; the limit is {LIMITS.max_steps}"
+            )
+            return
+
+
+def _duration(seconds: float) -> str:
+    for unit, size in (("hour", 3600), ("minute", 60)):
+        if seconds >= size:
+            count = seconds / size
+            shown = f"{count:.0f}" if count >= 10 or count == int(count) else f"{count:.1f}"
+            return f"{shown} {unit}" + ("" if shown == "1" else "s")
+    return f"{seconds:.3g} s"

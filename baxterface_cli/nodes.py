@@ -1,0 +1,195 @@
+"""The script's syntax tree: small frozen dataclasses.
+
+Every node carries its source position (line and column, both from 1), but
+positions take no part in equality: `look_40_-20_0.5` and
+`look 40 -20 in 0.5s` are equal nodes because they mean the same thing.
+Durations left to the default are None, so a legacy command and its script
+spelling stay equal whatever the default is.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass, field
+from typing import Any, Dict, Optional, Tuple
+
+
+class Pos:
+    """Where a node starts in its source text."""
+
+    __slots__ = ("line", "column")
+
+    def __init__(self, line: int = 0, column: int = 0) -> None:
+        self.line = line
+        self.column = column
+
+    def __repr__(self) -> str:
+        return f"{self.line}:{self.column}"
+
+
+NOWHERE = Pos()
+
+
+def _pos() -> Any:
+    return field(default=NOWHERE, compare=False, repr=False)
+
+
+@dataclass(frozen=True)
+class Emotion:
+    """An emotion, `sleep` or `wake up`: lids first, then skin, mouth and brows."""
+
+    name: str
+    pos: Pos = _pos()
+
+
+@dataclass(frozen=True)
+class Look:
+    """Move the eyes (and with `dynamic`, the head) toward x, y."""
+
+    x: float
+    y: float
+    duration: Optional[float] = None
+    easing: str = "linear"
+    dynamic: bool = False
+    pos: Pos = _pos()
+
+
+@dataclass(frozen=True)
+class Blink:
+    pos: Pos = _pos()
+
+
+@dataclass(frozen=True)
+class Wait:
+    duration: float
+    pos: Pos = _pos()
+
+
+@dataclass(frozen=True)
+class Wobble:
+    """Pan the head to `angle` radians."""
+
+    angle: float
+    duration: Optional[float] = None
+    easing: str = "linear"
+    pos: Pos = _pos()
+
+
+@dataclass(frozen=True)
+class Nod:
+    pos: Pos = _pos()
+
+
+@dataclass(frozen=True)
+class Enable:
+    pos: Pos = _pos()
+
+
+@dataclass(frozen=True)
+class Disable:
+    pos: Pos = _pos()
+
+
+@dataclass(frozen=True)
+class Exit:
+    pos: Pos = _pos()
+
+
+@dataclass(frozen=True)
+class Skin:
+    index: int
+    pos: Pos = _pos()
+
+
+@dataclass(frozen=True)
+class Mouth:
+    name: str
+    pos: Pos = _pos()
+
+
+@dataclass(frozen=True)
+class Brows:
+    name: str
+    pos: Pos = _pos()
+
+
+@dataclass(frozen=True)
+class Eyelids:
+    """Move the lids to `openness`: 0 closed .. 1 open."""
+
+    openness: float
+    duration: Optional[float] = None
+    easing: str = "linear"
+    pos: Pos = _pos()
+
+
+@dataclass(frozen=True)
+class Follow:
+    """Start following `target` ("human", "left arm", "right arm"); None stops."""
+
+    target: Optional[str]
+    dynamic: bool = False
+    pos: Pos = _pos()
+
+
+@dataclass(frozen=True)
+class Repeat:
+    count: int
+    body: Tuple[Any, ...]
+    pos: Pos = _pos()
+
+
+@dataclass(frozen=True)
+class Together:
+    """Run the children in parallel; lasts as long as the longest."""
+
+    body: Tuple[Any, ...]
+    pos: Pos = _pos()
+
+
+@dataclass(frozen=True)
+class Define:
+    name: str
+    body: Tuple[Any, ...]
+    pos: Pos = _pos()
+
+
+@dataclass(frozen=True)
+class Call:
+    """Run a `define`d block by name."""
+
+    name: str
+    pos: Pos = _pos()
+
+
+@dataclass(frozen=True)
+class Script:
+    body: Tuple[Any, ...]
+    filename: str = field(default="<script>", compare=False)
+    warnings: Tuple[Any, ...] = field(default=(), compare=False, repr=False)
+    source: str = field(default="", compare=False, repr=False)
+
+    @property
+    def definitions(self) -> Dict[str, Define]:
+        return {s.name: s for s in self.body if isinstance(s, Define)}
+
+
+BLOCKS = (Repeat, Together, Define)
+
+
+def to_json(node: Any) -> Any:
+    """A JSON-ready view of a node: `type`, its fields, `line` and `column`."""
+    if isinstance(node, tuple):
+        return [to_json(child) for child in node]
+    if not dataclasses.is_dataclass(node):
+        return node
+    out: Dict[str, Any] = {"type": type(node).__name__}
+    for f in dataclasses.fields(node):
+        if f.name in ("pos", "warnings", "source"):
+            continue
+        out[f.name] = to_json(getattr(node, f.name))
+    pos = getattr(node, "pos", None)
+    if pos is not None:
+        out["line"] = pos.line
+        out["column"] = pos.column
+    return out

@@ -1,0 +1,109 @@
+"""The face's vocabulary as data: emotions, parts, directions, units, limits.
+
+Everything that names or times something lives here, so the parser, the
+checker and (later) the compiler read one table instead of growing if-chains.
+Numbers come from the original node (see docs/language.md).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Dict, NamedTuple, Tuple
+
+# Original index order: the legacy `skin_<n>` command and stable names.
+MOUTHS: Tuple[str, ...] = (
+    "angry",
+    "bored",
+    "confused",
+    "sad",
+    "teeth",
+    "smile",
+    "smile-open",
+)
+BROWS: Tuple[str, ...] = ("normal", "raised", "skeptical", "angry", "worried")
+SKINS = range(6)  # 0..4 pale yellow to red, 5 sleepy with a "Zzz"
+
+
+class EmotionSpec(NamedTuple):
+    """One row of the emotion table: the parts an emotion may pick from."""
+
+    skin: int
+    mouths: Tuple[str, ...]
+    brows: Tuple[str, ...]
+    eyelids: float  # openness the lids move to: 1 open .. 0 closed
+    lid_seconds: float  # the lids move first, over this time
+
+
+EMOTIONS: Dict[str, EmotionSpec] = {
+    "default": EmotionSpec(2, ("smile",), ("normal",), 1.0, 0.3),
+    "happy": EmotionSpec(2, ("teeth", "smile-open"), ("normal", "raised"), 1.0, 0.3),
+    "angry": EmotionSpec(4, ("angry", "sad"), ("skeptical", "angry"), 1.0, 0.3),
+    "confused": EmotionSpec(3, ("confused",), ("normal", "raised"), 1.0, 0.3),
+    "sad": EmotionSpec(1, ("bored", "sad"), ("worried",), 1.0, 0.3),
+    "panic": EmotionSpec(0, ("confused",), ("raised",), 1.0, 0.3),
+    "bored": EmotionSpec(2, ("bored",), ("normal", "skeptical", "angry"), 0.5, 0.3),
+    "crafty": EmotionSpec(3, ("teeth", "smile-open"), ("skeptical", "angry"), 1.0, 0.3),
+    "sleep": EmotionSpec(5, ("bored",), ("raised",), 0.0, 0.6),
+    "wake up": EmotionSpec(3, ("smile",), ("normal",), 1.0, 0.8),
+}
+
+# Named look directions, in eye coordinates at 1024x600 (x positive = the
+# robot's left = the viewer's right; y positive = down). "left" is the old
+# voice command's `dynamic_look_65_0`; the others keep the same proportion of
+# the eye ellipse.
+DIRECTIONS: Dict[str, Tuple[float, float]] = {
+    "left": (65.0, 0.0),
+    "right": (-65.0, 0.0),
+    "up": (0.0, -97.5),
+    "down": (0.0, 97.5),
+    "center": (0.0, 0.0),
+    "centre": (0.0, 0.0),
+    "ahead": (0.0, 0.0),
+    "up-left": (46.0, -69.0),
+    "up-right": (-46.0, -69.0),
+    "down-left": (46.0, 69.0),
+    "down-right": (-46.0, 69.0),
+}
+
+# Eye ellipse at 1024x600: semi-axes in pixels.
+EYE_RADIUS_X = 80.0
+EYE_RADIUS_Y = 120.0
+HEAD_PAN_LIMIT = 1.5  # radians; wobble clamps to +-this
+
+
+class Timing(NamedTuple):
+    """Durations, in seconds, of moves a script does not time itself."""
+
+    look: float = 0.5
+    wobble: float = 0.5
+    eyelids: float = 0.3
+    blink_close: float = 0.3
+    blink_open: float = 0.2
+    nod: float = 1.0
+
+
+TIMING = Timing()
+
+# Units a number may carry, by what the number means. The empty unit is the
+# legacy one (seconds, radians, pixels).
+UNITS: Dict[str, Dict[str, float]] = {
+    "seconds": {"": 1.0, "s": 1.0, "ms": 0.001},
+    "radians": {"": 1.0, "rad": 1.0, "deg": math.pi / 180.0},
+    "pixels": {"": 1.0, "px": 1.0},
+    "openness": {"": 1.0, "%": 0.01},
+    "count": {"": 1.0},
+    "index": {"": 1.0},
+}
+
+
+class Limits(NamedTuple):
+    """Bounds that keep any script cheap to check, compile and play."""
+
+    max_bytes: int = 256 * 1024  # a script's text
+    max_depth: int = 32  # nested { } blocks
+    max_repeat: int = 10_000  # one repeat's count
+    max_seconds: float = 3600.0  # a script's total length
+    max_steps: int = 100_000  # statements once repeats and definitions unroll
+
+
+LIMITS = Limits()
