@@ -1,0 +1,59 @@
+# baxterface: `make play` and `make test` set everything up on a fresh machine.
+
+PYTHON ?= python3
+# Python 3.8 is what ROS Noetic robots run; the language tests run on it too.
+PY38 ?= $(firstword $(wildcard $(HOME)/.pyenv/versions/3.8*/bin/python3.8))
+VENV := .venv
+VENV38 := .venv38
+BIN := $(VENV)/bin
+SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
+ROS_PACKAGES := ros-core python3-rospy python3-cv-bridge python3-sensor-msgs python3-std-msgs \
+	python3-geometry-msgs python3-genpy python3-rostopic
+PIP_QUIET := --quiet --disable-pip-version-check
+
+.PHONY: play test lint format golden ros venv venv38 clean
+
+venv: $(VENV)/.installed
+venv38: $(VENV38)/.installed
+
+$(VENV)/.installed: pyproject.toml
+	$(PYTHON) -m venv $(VENV)
+	$(BIN)/pip install $(PIP_QUIET) -e '.[test]'
+	touch $@
+
+$(VENV38)/.installed: pyproject.toml
+	@test -n "$(PY38)" || { echo "make: no Python 3.8 found (looked in ~/.pyenv/versions/3.8*); set PY38=/path/to/python3.8"; exit 1; }
+	$(PY38) -m venv $(VENV38)
+	$(VENV38)/bin/pip install $(PIP_QUIET) -e '.[test]'
+	touch $@
+
+# ROS 1 from Debian: roscore, rospy, cv_bridge (see ../shared/spec/baxter-ros.md).
+ros:
+	@command -v roscore >/dev/null 2>&1 || { \
+		$(SUDO) apt-get update -qq && \
+		$(SUDO) env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $(ROS_PACKAGES) >/dev/null; }
+
+lint: venv
+	$(BIN)/ruff check .
+	$(BIN)/ruff format --check .
+
+format: venv
+	$(BIN)/ruff check --fix .
+	$(BIN)/ruff format .
+
+test: lint ros venv venv38
+	$(BIN)/python -m pytest
+	$(VENV38)/bin/python -m pytest -m language -p no:cacheprovider
+
+# Rewrite the golden files after a deliberate change; review with `git diff`.
+golden: venv
+	BAXTERFACE_UPDATE_GOLDEN=1 $(BIN)/python -m pytest -q tests/test_errors.py
+
+# The timeline engine and `baxterface play` come with issue 4; until then
+# this sets up and checks the show.
+play: venv
+	$(BIN)/baxterface check scripts_examples/show.face && \
+		echo "scripts_examples/show.face checks clean; 'baxterface play' arrives with the timeline engine."
+
+clean:
+	rm -rf $(VENV) $(VENV38) .pytest_cache .hypothesis .ruff_cache build dist

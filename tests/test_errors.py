@@ -1,0 +1,46 @@
+"""Golden tests of what `baxterface check` prints for bad scripts.
+
+Each tests/golden/errors/NAME.face has beside it NAME.txt: the exact text
+check writes to stderr. After a deliberate change to the messages,
+`make golden` rewrites the .txt files; review them with `git diff`.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import pytest
+
+from conftest import ROOT, baxterface
+
+pytestmark = pytest.mark.language
+
+GOLDEN = Path(__file__).parent / "golden" / "errors"
+CASES = sorted(GOLDEN.glob("*.face"))
+UPDATE = os.environ.get("BAXTERFACE_UPDATE_GOLDEN") == "1"
+
+
+@pytest.mark.parametrize("case", CASES, ids=[c.stem for c in CASES])
+def test_check_output_matches_golden(case):
+    run = baxterface("check", str(case.relative_to(ROOT)))
+    expected_file = case.with_suffix(".txt")
+    if UPDATE:
+        expected_file.write_text(run.err, encoding="utf-8")
+    expected = expected_file.read_text(encoding="utf-8")
+    assert run.err == expected
+    assert run.out == ""
+    assert run.code == (1 if ": error: " in expected else 0)
+    assert "Traceback" not in run.err
+
+
+def test_goldens_cover_line_column_caret_and_suggestion():
+    # The golden files themselves must show what users rely on.
+    text = (GOLDEN / "did_you_mean.txt").read_text(encoding="utf-8")
+    assert (
+        "tests/golden/errors/did_you_mean.face:3:7: error: unknown mouth 'smil'; did you mean 'smile'?"
+        in text
+    )
+    assert "\n    mouth smil\n          ^\n" in text
+    tabs = (GOLDEN / "tabs.txt").read_text(encoding="utf-8")
+    assert "\n    \t\tmouth smiel\n    \t\t      ^\n" in tabs

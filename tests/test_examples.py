@@ -1,0 +1,38 @@
+"""Every shipped example checks cleanly; the show is the length it promises."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from baxterface_cli import nodes as n
+from baxterface_cli import parse_file
+from baxterface_cli.checker import measure, walk
+
+pytestmark = pytest.mark.language
+
+EXAMPLES = sorted((Path(__file__).resolve().parent.parent / "scripts_examples").glob("*.face"))
+
+
+def test_there_are_examples():
+    assert {p.name for p in EXAMPLES} >= {"show.face", "hello.face", "legacy.face"}
+
+
+@pytest.mark.parametrize("path", EXAMPLES, ids=[p.name for p in EXAMPLES])
+def test_example_checks_without_errors_or_warnings(path):
+    script = parse_file(path)
+    assert script.warnings == ()
+
+
+def test_show_is_15_to_30_seconds_and_uses_most_of_the_language():
+    script = parse_file(EXAMPLES[[p.name for p in EXAMPLES].index("show.face")])
+    called = {name: measure(d.body, {}) for name, d in script.definitions.items()}
+    seconds, _ = measure(script.body, called)
+    assert 15 <= seconds <= 30, seconds
+    kinds = {type(s) for s in walk(script.body)}
+    wanted = {n.Emotion, n.Look, n.Blink, n.Wait, n.Wobble, n.Nod, n.Skin, n.Mouth, n.Brows, n.Eyelids}
+    wanted |= {n.Repeat, n.Together, n.Define, n.Call}
+    assert wanted <= kinds, wanted - kinds
+    easings = {s.easing for s in walk(script.body) if isinstance(s, n.Look)}
+    assert {"ease-in", "ease-out", "ease-in-out", "linear"} <= easings

@@ -1,0 +1,48 @@
+"""The wheel carries the grammar: installed into a fresh venv, it works anywhere."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+import venv
+import zipfile
+
+import pytest
+
+from conftest import ROOT
+
+pytestmark = pytest.mark.slow
+
+
+def run(*cmd, cwd=None):
+    return subprocess.run([str(c) for c in cmd], cwd=cwd, capture_output=True, text=True, timeout=600)
+
+
+def test_wheel_installs_into_a_fresh_venv_and_runs_from_elsewhere(tmp_path):
+    dist = tmp_path / "dist"
+    built = run(sys.executable, "-m", "pip", "wheel", "--no-deps", "--no-build-isolation", "-w", dist, ROOT)
+    assert built.returncode == 0, built.stderr
+    (wheel,) = dist.glob("baxterface-*.whl")
+    names = zipfile.ZipFile(wheel).namelist()
+    assert "baxterface_cli/grammar/face.lark" in names
+
+    env_dir = tmp_path / "venv"
+    venv.create(env_dir, with_pip=True)
+    bindir = env_dir / ("Scripts" if sys.platform == "win32" else "bin")
+    installed = run(bindir / "python", "-m", "pip", "install", "-q", wheel)
+    assert installed.returncode == 0, installed.stderr
+
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    (elsewhere / "s.face").write_text("happy; look 40 -20 in 0.5s; wobble 0.3\nhapy\n", encoding="utf-8")
+    checked = run(bindir / "baxterface", "check", "s.face", cwd=elsewhere)
+    assert checked.returncode == 1
+    assert "s.face:2:1: error: unknown command 'hapy'; did you mean 'happy'?" in checked.stderr
+    # The grammar came from inside the installed package, not from this checkout.
+    where = run(
+        bindir / "python",
+        "-c",
+        "from baxterface_cli.resources import resource; print(resource('grammar/face.lark'))",
+        cwd=elsewhere,
+    )
+    assert "site-packages" in where.stdout and str(ROOT) not in where.stdout
