@@ -1,7 +1,7 @@
 # baxterface: `make play` and `make test` set everything up on a fresh machine.
 
 PYTHON ?= python3
-# Python 3.8 is what ROS Noetic robots run; the language tests run on it too.
+# Python 3.8 is what ROS Noetic robots run; the tests (but the wheel build) run on it too.
 PY38 ?= $(firstword $(wildcard $(HOME)/.pyenv/versions/3.8*/bin/python3.8))
 VENV := .venv
 VENV38 := .venv38
@@ -11,7 +11,7 @@ ROS_PACKAGES := ros-core python3-rospy python3-cv-bridge python3-sensor-msgs pyt
 	python3-geometry-msgs python3-genpy python3-rostopic
 PIP_QUIET := --quiet --disable-pip-version-check
 
-.PHONY: play test lint format golden ros venv venv38 clean
+.PHONY: play test lint format golden theme bench ros venv venv38 clean
 
 venv: $(VENV)/.installed
 venv38: $(VENV38)/.installed
@@ -43,11 +43,20 @@ format: venv
 
 test: lint ros venv venv38
 	$(BIN)/python -m pytest
-	$(VENV38)/bin/python -m pytest -m language -p no:cacheprovider
+	$(VENV38)/bin/python -m pytest -m "not slow" -p no:cacheprovider
 
-# Rewrite the golden files after a deliberate change; review with `git diff`.
+# Rewrite the golden files (error output, face images) after a deliberate
+# change; review them with `git diff` before committing.
 golden: venv
-	BAXTERFACE_UPDATE_GOLDEN=1 $(BIN)/python -m pytest -q tests/test_errors.py
+	BAXTERFACE_UPDATE_GOLDEN=1 $(BIN)/python -m pytest -q tests/test_errors.py tests/test_face.py
+
+# Redraw assets/default/ from the vector shapes in baxterface_cli/artwork.py.
+theme: venv
+	$(BIN)/python assets/draw_default_theme.py
+
+# The benchmarks whose figures are in the README.
+bench: venv
+	$(BIN)/python bench/bench_render.py
 
 # The timeline engine and `baxterface play` come with issue 4; until then
 # this sets up and checks the show.

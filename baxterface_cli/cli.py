@@ -13,6 +13,7 @@ from . import __version__
 from .diagnostics import ScriptError
 from .nodes import Script, to_json
 from .parser import decode, parse, read_bounded
+from .theme import Theme, ThemeError, parse_size
 
 app = typer.Typer(
     name="baxterface",
@@ -83,6 +84,58 @@ def check(
             typer.echo(json.dumps(to_json(script), indent=2, sort_keys=True))
     if failed:
         raise typer.Exit(1)
+
+
+theme_app = typer.Typer(
+    help="Themes: the face's layer images. Export the default one to edit, check your own.",
+    no_args_is_help=True,
+)
+app.add_typer(theme_app, name="theme")
+
+
+def _size(text: Optional[str]) -> Optional[tuple]:
+    if text is None:
+        return None
+    try:
+        return parse_size(text)
+    except ValueError as e:
+        raise typer.BadParameter(str(e)) from None
+
+
+@theme_app.command("export")
+def theme_export(
+    folder: str = typer.Argument(..., metavar="DIR", help="Folder to write the layers and theme.json to."),
+    size: Optional[str] = typer.Option(
+        None, "--size", metavar="WxH", help="Screen size to draw the layers at (default 1024x600)."
+    ),
+    theme: Optional[str] = typer.Option(
+        None, "--theme", metavar="DIR", help="Export this theme instead of the default."
+    ),
+    force: bool = typer.Option(False, "--force", help="Write into a folder that is not empty."),
+) -> None:
+    """Write a theme's layers (PNG) and manifest to DIR, to edit in an image editor.
+
+    Every layer is a full-screen RGBA image; keep each file's size when you edit
+    it, then use the folder with --theme DIR.
+    """
+    try:
+        source = Theme.load(theme) if theme else Theme.default()
+        written = source.export(folder, _size(size), force=force)
+    except ThemeError as e:
+        typer.echo(f"baxterface: {e}", err=True)
+        raise typer.Exit(1) from None
+    typer.echo(f"wrote {len(written)} files to {folder}")
+
+
+@theme_app.command("check")
+def theme_check(folder: str = typer.Argument(..., metavar="DIR", help="A theme folder.")) -> None:
+    """Check that a theme folder has every layer, readable and of the right size."""
+    try:
+        theme = Theme.load(folder)
+        theme.layers(theme.size)
+    except ThemeError as e:
+        typer.echo(f"baxterface: {e}", err=True)
+        raise typer.Exit(1) from None
 
 
 def main(argv: Optional[List[str]] = None) -> None:

@@ -41,7 +41,8 @@ EMOTIONS: Dict[str, EmotionSpec] = {
     "confused": EmotionSpec(3, ("confused",), ("normal", "raised"), 1.0, 0.3),
     "sad": EmotionSpec(1, ("bored", "sad"), ("worried",), 1.0, 0.3),
     "panic": EmotionSpec(0, ("confused",), ("raised",), 1.0, 0.3),
-    "bored": EmotionSpec(2, ("bored",), ("normal", "skeptical", "angry"), 0.5, 0.3),
+    # The original's half-closed lid sat 150 of its 330 pixels above closed.
+    "bored": EmotionSpec(2, ("bored",), ("normal", "skeptical", "angry"), 150 / 330, 0.3),
     "crafty": EmotionSpec(3, ("teeth", "smile-open"), ("skeptical", "angry"), 1.0, 0.3),
     "sleep": EmotionSpec(5, ("bored",), ("raised",), 0.0, 0.6),
     "wake up": EmotionSpec(3, ("smile",), ("normal",), 1.0, 0.8),

@@ -25,6 +25,8 @@ def test_wheel_installs_into_a_fresh_venv_and_runs_from_elsewhere(tmp_path):
     (wheel,) = dist.glob("baxterface-*.whl")
     names = zipfile.ZipFile(wheel).namelist()
     assert "baxterface_cli/grammar/face.lark" in names
+    assert "baxterface_cli/assets/default/theme.json" in names
+    assert "baxterface_cli/assets/default/skin-5.png" in names
 
     env_dir = tmp_path / "venv"
     venv.create(env_dir, with_pip=True)
@@ -46,3 +48,12 @@ def test_wheel_installs_into_a_fresh_venv_and_runs_from_elsewhere(tmp_path):
         cwd=elsewhere,
     )
     assert "site-packages" in where.stdout and str(ROOT) not in where.stdout
+    # The installed theme draws a face.
+    drawn = run(
+        bindir / "python",
+        "-c",
+        "from baxterface_cli import Face; f = Face(); f.set_emotion('happy', 0); "
+        "print(f.frame().shape, f.theme.name)",
+        cwd=elsewhere,
+    )
+    assert drawn.stdout.strip() == "(600, 1024, 3) default", drawn.stderr

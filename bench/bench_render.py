@@ -1,0 +1,138 @@
+"""Frames per second of the renderer against the original method, in one run.
+
+    python bench/bench_render.py [--frames N]
+
+The baseline is how the original node drew every frame: copy the background
+and PIL-paste the five other full-screen RGBA layers onto it (eyes and lids
+at their offsets), then hand the image over as a numpy array. Each figure is
+the best of three timed runs; ratios are against the baseline measured here,
+at the same size, in this same run.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import time
+from typing import Callable, Dict, List, Tuple
+
+import numpy as np
+from PIL import Image
+
+from baxterface_cli import FaceState, Parts
+from baxterface_cli.face import emotion_variants
+from baxterface_cli.renderer import Renderer, pose
+from baxterface_cli.tables import EMOTIONS
+from baxterface_cli.theme import Theme
+
+
+class Original:
+    """The original node's way: six full-screen PIL layers pasted per frame."""
+
+    def __init__(self, theme: Theme, size: Tuple[int, int]) -> None:
+        placed = theme.placed_at(size)
+
+        def full(key):
+            layer = Image.new("RGBA", size)
+            layer.paste(placed[key].image, placed[key].anchor)
+            return layer
+
+        self.background = full(("background", "background"))
+        self.eyes = full(("eyes", "eyes"))
+        self.lids = full(("eyelids", "eyelids"))
+        self.parts = {key: full(key) for key in placed if key[0] in ("skin", "mouth", "brows")}
+        self.layers = theme.layers(size)
+
+    def render(self, state: FaceState) -> np.ndarray:
+        at = pose(self.layers, state)
+        img = self.background.copy()
+        img.paste(self.eyes, (at.eye_dx, at.eye_dy), self.eyes)
+        img.paste(self.lids, (0, at.lid_dy), self.lids)
+        for key in (("skin", str(state.skin)), ("mouth", state.mouth), ("brows", state.brows)):
+            layer = self.parts[key]
+            img.paste(layer, (0, 0), layer)
+        return np.asarray(img)
+
+
+def eyes_moving(n: int) -> List[FaceState]:
+    return [FaceState(eye_x=60 * math.sin(i / 9), eye_y=45 * math.cos(i / 13)) for i in range(n)]
+
+
+def lids_moving(n: int) -> List[FaceState]:
+    # Blinks: close in 9 frames, open in 6, as at 30 fps (0.3 s and 0.2 s).
+    cycle = [1 - k / 9 for k in range(9)] + [k / 6 for k in range(6)]
+    return [FaceState(eyelids=cycle[i % len(cycle)]) for i in range(n)]
+
+
+def emotions_changing(n: int) -> List[FaceState]:
+    names = [e for e in EMOTIONS]
+    out = []
+    for i in range(n):
+        name = names[i % len(names)]
+        spec = EMOTIONS[name]
+        mouth, brows = emotion_variants(name)[0]
+        out.append(FaceState(spec.skin, mouth, brows, eyelids=spec.eyelids))
+    return out
+
+
+def crossfading(a: Parts, b: Parts, n: int) -> List[FaceState]:
+    return [FaceState(*b, eye_x=i % 20, fade_from=a, fade=(i % 7) / 7) for i in range(n)]
+
+
+def fps(render: Callable[[FaceState], np.ndarray], states: List[FaceState], runs: int = 3) -> float:
+    render(states[0])  # warm up: first-use costs are measured separately
+    best = math.inf
+    for _ in range(runs):
+        start = time.perf_counter()
+        for state in states:
+            render(state)
+        best = min(best, time.perf_counter() - start)
+    return len(states) / best
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--frames", type=int, default=300)
+    args = parser.parse_args()
+    theme = Theme.default()
+    rows: List[Tuple[str, str, float, float]] = []
+    for size in [(1024, 600), (1920, 1200)]:
+        original = Original(theme, size)
+        label = f"{size[0]}x{size[1]}"
+        scenarios: Dict[str, List[FaceState]] = {
+            "eyes move": eyes_moving(args.frames),
+            "lids move (blinks)": lids_moving(args.frames),
+            "emotion changes every frame": emotions_changing(args.frames),
+        }
+        if size == (1024, 600):
+            smile, grin, angry = (
+                Parts(2, "smile", "normal"),
+                Parts(2, "teeth", "raised"),
+                Parts(4, "angry", "angry"),
+            )
+            scenarios["crossfade, same skin"] = crossfading(smile, grin, args.frames)
+            scenarios["crossfade, skin changes"] = crossfading(smile, angry, args.frames // 3)
+        for name, states in scenarios.items():
+            base = fps(original.render, states)
+            renderer = Renderer(theme.layers(size))
+            ours = fps(renderer.render, states)
+            copied = fps(lambda s, r=renderer: r.render(s).copy(), states)
+            rows.append((label, name, base, ours))
+            rows.append((label, name + ", frame copied", base, copied))
+    # First use of a part combination (a cold cache): the top stack is built.
+    layers = theme.layers((1024, 600))
+    start = time.perf_counter()
+    combos = [Parts(s, m, b) for s in range(3) for m in ("smile", "sad") for b in ("normal", "angry")]
+    renderer = Renderer(layers)
+    for parts in combos:
+        renderer.render(FaceState(*parts))
+    cold = (time.perf_counter() - start) / len(combos) * 1000
+
+    print(f"{'size':<10} {'frames':<38} {'original fps':>12} {'baxterface fps':>15} {'ratio':>7}")
+    for label, name, base, ours in rows:
+        print(f"{label:<10} {name:<38} {base:>12.0f} {ours:>15.0f} {ours / base:>6.1f}x")
+    print(f"first frame of a new part combination at 1024x600: {cold:.1f} ms")
+
+
+if __name__ == "__main__":
+    main()
