@@ -9,9 +9,11 @@ BIN := $(VENV)/bin
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 ROS_PACKAGES := ros-core python3-rospy python3-cv-bridge python3-sensor-msgs python3-std-msgs \
 	python3-geometry-msgs python3-genpy python3-rostopic
+# Xvfb: a screen for the tests of `play`'s window.
+TEST_PACKAGES := $(ROS_PACKAGES) xvfb
 PIP_QUIET := --quiet --disable-pip-version-check
 
-.PHONY: play test lint format golden theme bench ros venv venv38 clean
+.PHONY: play test lint format golden theme bench system venv venv38 clean
 
 venv: $(VENV)/.installed
 venv38: $(VENV38)/.installed
@@ -27,11 +29,11 @@ $(VENV38)/.installed: pyproject.toml
 	$(VENV38)/bin/pip install $(PIP_QUIET) -e '.[test]'
 	touch $@
 
-# ROS 1 from Debian: roscore, rospy, cv_bridge (see ../shared/spec/baxter-ros.md).
-ros:
-	@command -v roscore >/dev/null 2>&1 || { \
+# Debian packages: ROS 1 (roscore, rospy, cv_bridge; see ../shared/spec/baxter-ros.md) and Xvfb.
+system:
+	@command -v roscore >/dev/null 2>&1 && command -v Xvfb >/dev/null 2>&1 || { \
 		$(SUDO) apt-get update -qq && \
-		$(SUDO) env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $(ROS_PACKAGES) >/dev/null; }
+		$(SUDO) env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $(TEST_PACKAGES) >/dev/null; }
 
 lint: venv
 	$(BIN)/ruff check .
@@ -41,7 +43,7 @@ format: venv
 	$(BIN)/ruff check --fix .
 	$(BIN)/ruff format .
 
-test: lint ros venv venv38
+test: lint system venv venv38
 	$(BIN)/python -m pytest
 	$(VENV38)/bin/python -m pytest -m "not slow" -p no:cacheprovider
 
@@ -57,12 +59,12 @@ theme: venv
 # The benchmarks whose figures are in the README.
 bench: venv
 	$(BIN)/python bench/bench_render.py
+	$(BIN)/python bench/bench_gif.py
+	$(BIN)/python bench/bench_playback.py
 
-# The timeline engine and `baxterface play` come with issue 4; until then
-# this sets up and checks the show.
+# Plays in a window where there is a display, else in this terminal.
 play: venv
-	$(BIN)/baxterface check scripts_examples/show.face && \
-		echo "scripts_examples/show.face checks clean; 'baxterface play' arrives with the timeline engine."
+	$(BIN)/baxterface play scripts_examples/show.face
 
 clean:
 	rm -rf $(VENV) $(VENV38) .pytest_cache .hypothesis .ruff_cache build dist

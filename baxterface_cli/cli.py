@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import os
+import signal
 import sys
 from typing import List, Optional
 
@@ -14,6 +15,8 @@ from .diagnostics import ScriptError
 from .nodes import Script, to_json
 from .parser import decode, parse, read_bounded
 from .theme import Theme, ThemeError, parse_size
+
+DEFAULT_SEED = 0  # render and explain are reproducible unless told otherwise
 
 app = typer.Typer(
     name="baxterface",
@@ -51,6 +54,256 @@ def load_script(path: str) -> Script:
         name = path
         data = read_bounded(path, name)
     return parse(decode(data, name), name)
+
+
+def fail(message: str, code: int = 1) -> typer.Exit:
+    typer.echo(message, err=True)
+    return typer.Exit(code)
+
+
+def script_from(path: Optional[str], inline: Optional[str], command: str) -> Script:
+    """The script a command was given: FILE, '-', inline with -e, or piped in."""
+    try:
+        if inline is not None:
+            if path is not None:
+                raise fail(f"baxterface {command}: give a SCRIPT or -e TEXT, not both", 2)
+            script = parse(inline, "<-e>")
+        elif path is None and sys.stdin.isatty():
+            raise fail(
+                f"baxterface {command}: no script; give a FILE, '-' for standard input, or -e 'happy; blink'",
+                2,
+            )
+        else:
+            script = load_script(path or "-")
+    except ScriptError as e:
+        raise fail(e.render()) from None
+    for warning in script.warnings:
+        typer.echo(warning.render(script.filename, script.source), err=True)
+    return script
+
+
+def fitted_theme(theme: Optional[str], size: Optional[str]):
+    """The theme's layers at the asked size, or a clear exit."""
+    from .theme import resolve
+
+    try:
+        return resolve(theme).layers(_size(size) or (1024, 600))
+    except ThemeError as e:
+        raise fail(f"baxterface: {e}") from None
+
+
+SCRIPT_ARG = typer.Argument(
+    None, metavar="[SCRIPT]", help="Script file; '-' or nothing reads standard input."
+)
+INLINE_OPT = typer.Option(
+    None, "-e", "--eval", metavar="TEXT", help="The script itself: -e 'happy; look 40 -20'."
+)
+SEED_HELP = "Seed for emotions' random mouths and brows, and idle blinks."
+SIZE_OPT = typer.Option(
+    None, "--size", metavar="WxH", help="Screen size (default 1024x600; 1920x1200 for upgraded heads)."
+)
+THEME_OPT = typer.Option(
+    None, "--theme", metavar="DIR", help="A theme folder (see 'baxterface theme export')."
+)
+FPS_HELP = "Frames per second."
+CROSSFADE_OPT = typer.Option(
+    0.15,
+    "--crossfade",
+    metavar="SECONDS",
+    min=0.0,
+    max=2.0,
+    help="Blend part changes over this time; 0 cuts.",
+)
+
+
+def animation_for(script: Script, seed: Optional[int], idle: bool, crossfade: float):
+    from .idle import Animation
+    from .timeline import compile_script
+
+    return Animation(compile_script(script, seed, crossfade=crossfade), idle=idle, seed=seed)
+
+
+@app.command()
+def render(
+    script_path: Optional[str] = SCRIPT_ARG,
+    out: str = typer.Option(
+        ..., "--out", "-o", metavar="PATH", help="DIR/ for numbered PNGs, FILE.gif, or FILE.png."
+    ),
+    inline: Optional[str] = INLINE_OPT,
+    fps: float = typer.Option(30.0, "--fps", min=1.0, max=120.0, help=FPS_HELP),
+    size: Optional[str] = SIZE_OPT,
+    seed: int = typer.Option(DEFAULT_SEED, "--seed", help=SEED_HELP),
+    at: Optional[float] = typer.Option(
+        None, "--at", metavar="T", min=0.0, help="For a .png: the time to show (default: the end)."
+    ),
+    theme: Optional[str] = THEME_OPT,
+    idle: bool = typer.Option(False, "--idle", help="Add idle blinks and eye darts."),
+    crossfade: float = CROSSFADE_OPT,
+    quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress bar."),
+) -> None:
+    """Render a script to image files: numbered PNGs, an animated GIF, or one PNG.
+
+    PATH ending in '/' (or an existing folder) gets frame_00000.png, ...;
+    a .gif gets a looping animation with the script's own timing; a .png gets
+    one frame, the last or the one at --at. Files appear only once complete.
+    """
+    from .renderer import Renderer
+    from .rendering import output_kind
+    from .rendering import render as render_to
+
+    try:
+        output_kind(out)
+    except ValueError as e:
+        raise typer.BadParameter(str(e), param_hint="--out") from None
+    animation = animation_for(script_from(script_path, inline, "render"), seed, idle, crossfade)
+    renderer = Renderer(fitted_theme(theme, size))
+    show_progress = not quiet and sys.stderr.isatty()
+    try:
+        if show_progress:
+            from rich.progress import Progress
+
+            with Progress(transient=True) as bar:
+                task = bar.add_task("rendering", total=None)
+                count = render_to(
+                    animation,
+                    renderer,
+                    out,
+                    fps,
+                    at,
+                    lambda done, total: bar.update(task, completed=done, total=total),
+                )
+        else:
+            count = render_to(animation, renderer, out, fps, at)
+    except OSError as e:
+        raise fail(f"baxterface render: cannot write {out}: {e.strerror or e}") from None
+    if not quiet and sys.stderr.isatty():
+        typer.echo(
+            f"wrote {out} ({count} frame{'s' if count != 1 else ''}, {animation.duration:.2f} s)", err=True
+        )
+
+
+@app.command()
+def explain(
+    script_path: Optional[str] = SCRIPT_ARG,
+    inline: Optional[str] = INLINE_OPT,
+    as_json: bool = typer.Option(
+        False, "--json", help="One JSON object per frame (JSON Lines): the whole face state."
+    ),
+    fps: float = typer.Option(30.0, "--fps", min=1.0, max=120.0, help="Frames per second for --json."),
+    seed: int = typer.Option(DEFAULT_SEED, "--seed", help=SEED_HELP),
+    idle: bool = typer.Option(False, "--idle", help="Include idle blinks and eye darts (--json)."),
+    crossfade: float = CROSSFADE_OPT,
+) -> None:
+    """Explain a script's timeline: what starts and ends when.
+
+    With --json, print one record per frame with the whole face state (skin,
+    mouth, brows, eyes, eyelids, head pan, crossfade) and the robot's status.
+    """
+    from .timeline import state_record
+
+    script = script_from(script_path, inline, "explain")
+    animation = animation_for(script, seed, idle, crossfade)
+    timeline = animation.timeline
+    if as_json:
+        for t in timeline.frame_times(fps):
+            typer.echo(json.dumps(state_record(t, animation.sample(t), timeline.status(t)), sort_keys=True))
+        return
+    typer.echo(f"{script.filename}: {timeline.duration:.2f} s")
+    for span in timeline.spans:
+        when = f"{span.start:6.2f} s" if span.end == span.start else f"{span.start:6.2f} - {span.end:6.2f} s"
+        typer.echo(f"  {when:<19} line {span.line:<4} {span.text}")
+    for change in timeline.parts:
+        p = change.parts
+        typer.echo(f"  {change.at:6.2f} s{'':<12} face  skin {p.skin}, mouth {p.mouth}, brows {p.brows}")
+    for action in timeline.actions:
+        detail = {"head": f"head pan to {action.value:+.2f} rad over {action.duration:g} s"}.get(
+            action.kind, action.kind
+        )
+        if action.kind == "follow":
+            target, dynamic = action.value
+            detail = f"follow {target or 'off'}" + (" dynamic" if dynamic else "")
+        typer.echo(f"  {action.at:6.2f} s{'':<12} robot {detail}")
+
+
+@app.command()
+def play(
+    script_path: Optional[str] = typer.Argument(
+        None, metavar="SCRIPT", help="Script file ('-' reads standard input)."
+    ),
+    inline: Optional[str] = INLINE_OPT,
+    loop: bool = typer.Option(False, "--loop", help="Start again at the end, until interrupted."),
+    watch: bool = typer.Option(
+        False, "--watch", help="Reload SCRIPT when it changes; keep the last good version on errors."
+    ),
+    window: Optional[bool] = typer.Option(
+        None, "--window/--terminal", help="Where to play (default: a window if there is a display)."
+    ),
+    fps: float = typer.Option(30.0, "--fps", min=1.0, max=120.0, help=FPS_HELP),
+    size: Optional[str] = SIZE_OPT,
+    seed: Optional[int] = typer.Option(None, "--seed", help=SEED_HELP + " Default: random."),
+    theme: Optional[str] = THEME_OPT,
+    idle: bool = typer.Option(True, "--idle/--no-idle", help="Idle blinks and eye darts."),
+    crossfade: float = CROSSFADE_OPT,
+) -> None:
+    """Play a script in real time: in a window, or in this terminal.
+
+    The status line shows what only the robot could: head pan, enable,
+    following. Ctrl-C stops.
+    """
+    from .playback import Player, TerminalScreen, WindowScreen, window_available
+    from .renderer import Renderer
+
+    if watch and (script_path in (None, "-") or inline is not None):
+        raise fail("baxterface play: --watch needs a SCRIPT file", 2)
+    script = script_from(script_path, inline, "play")
+    why_not = window_available()
+    if window is None:
+        window = why_not is None
+    if window and why_not:
+        raise fail(f"baxterface play: cannot open a window: {why_not}")
+    if not window and not sys.stdout.isatty():
+        raise fail(
+            "baxterface play: no display and no terminal to play in; "
+            "use 'baxterface render SCRIPT --out show.gif' to make a file instead"
+        )
+    renderer = Renderer(fitted_theme(theme, size))
+    animation = animation_for(script, seed, idle, crossfade)
+    screen = WindowScreen() if window else TerminalScreen()
+    player = Player(animation, renderer, screen, fps)
+    poll = _watcher(script_path, seed, idle, crossfade, player) if watch else None
+    played = 0.0
+    try:
+        played = player.run(loop=loop, hold=watch, poll=poll)
+    except KeyboardInterrupt:
+        pass
+    finally:
+        screen.close()
+    summary = f"played {player.animation.duration:.2f} s of script in {played:.2f} s"
+    typer.echo(f"{summary}: {player.frames_shown} frames ({screen.name})", err=True)
+
+
+def _watcher(path: str, seed: Optional[int], idle: bool, crossfade: float, player):
+    """A poll function: a new animation when the file changed and parses, else None."""
+    state = {"mtime": os.stat(path).st_mtime_ns}
+
+    def poll():
+        try:
+            mtime = os.stat(path).st_mtime_ns
+        except OSError:
+            return None
+        if mtime == state["mtime"]:
+            return None
+        state["mtime"] = mtime
+        try:
+            script = load_script(path)
+        except ScriptError as e:
+            first = e.diagnostics[0]
+            player.note = f"kept the last good version: line {first.line}: {first.message}"
+            return None
+        player.note = ""
+        return animation_for(script, seed, idle, crossfade)
+
+    return poll
 
 
 @app.command()
@@ -138,8 +391,14 @@ def theme_check(folder: str = typer.Argument(..., metavar="DIR", help="A theme f
         raise typer.Exit(1) from None
 
 
+def _terminate(signum: int, frame: object) -> None:
+    # Unwind like Ctrl-C, so half-written output is removed on the way out.
+    raise SystemExit(128 + signum)
+
+
 def main(argv: Optional[List[str]] = None) -> None:
     """Entry point: run the app, never showing a user a Python traceback."""
+    signal.signal(signal.SIGTERM, _terminate)
     try:
         app(args=argv, prog_name="baxterface")
     except Exception as e:  # a bug of ours: say so in one line

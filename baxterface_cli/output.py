@@ -1,0 +1,186 @@
+"""Sinks that write frames to files: PNG images, numbered PNGs, animated GIFs.
+
+Every file is written beside its final name and renamed into place when
+complete, so an interrupted render leaves no half-written file behind.
+"""
+
+from __future__ import annotations
+
+import io
+import os
+import shutil
+import tempfile
+from pathlib import Path
+from typing import Iterable, List, Optional, Tuple
+
+import numpy as np
+from PIL import GifImagePlugin, Image
+
+TRANSPARENT = 255  # the GIF palette index meaning "as in the frame before"
+LUT_BITS = 5  # colour bits per channel of the palette lookup
+
+
+def write_png(path: Path, frame_bgr: np.ndarray) -> None:
+    """One frame as a PNG image, written atomically."""
+    data = io.BytesIO()
+    Image.fromarray(np.ascontiguousarray(frame_bgr[..., ::-1]), "RGB").save(
+        data, format="PNG", compress_level=6
+    )
+    write_atomic(path, data.getvalue())
+
+
+def write_atomic(path: Path, data: bytes) -> None:
+    tmp = path.with_name(f".{path.name}.partial")
+    try:
+        tmp.write_bytes(data)
+        os.replace(tmp, path)
+    finally:
+        if tmp.exists():
+            tmp.unlink()
+
+
+class PngFolder:
+    """Numbered PNG frames (frame_00000.png, ...) in a folder.
+
+    Frames go to a hidden folder beside the target first and move in only
+    when the render finishes.
+    """
+
+    def __init__(self, folder: Path) -> None:
+        self.folder = folder
+        folder.parent.mkdir(parents=True, exist_ok=True)
+        self.staging = Path(tempfile.mkdtemp(prefix=f".{folder.name}.partial-", dir=str(folder.parent)))
+        self.count = 0
+
+    def add(self, frame_bgr: np.ndarray) -> None:
+        rgb = np.ascontiguousarray(frame_bgr[..., ::-1])
+        Image.fromarray(rgb, "RGB").save(self.staging / f"frame_{self.count:05d}.png", compress_level=6)
+        self.count += 1
+
+    def close(self) -> List[Path]:
+        self.folder.mkdir(parents=True, exist_ok=True)
+        for old in self.folder.glob("frame_*.png"):  # a previous render's frames would mix in
+            old.unlink()
+        written = []
+        for path in sorted(self.staging.iterdir()):
+            target = self.folder / path.name
+            os.replace(path, target)
+            written.append(target)
+        self.staging.rmdir()
+        return written
+
+    def abort(self) -> None:
+        shutil.rmtree(self.staging, ignore_errors=True)
+
+
+def build_palette(frames_rgb: Iterable[np.ndarray], colours: int = 255) -> np.ndarray:
+    """One palette for a whole animation, from frames that show its colours."""
+    tiles = [Image.fromarray(f, "RGB").reduce(2) for f in frames_rgb]
+    mosaic = Image.new("RGB", (tiles[0].width, tiles[0].height * len(tiles)))
+    for i, tile in enumerate(tiles):
+        mosaic.paste(tile, (0, i * tiles[0].height))
+    quantized = mosaic.quantize(colors=colours, method=Image.MEDIANCUT, dither=Image.NONE)
+    used = len(quantized.getcolors(colours + 1) or [])
+    return np.array(quantized.getpalette()[: 3 * max(used, 1)], np.uint8).reshape(-1, 3)
+
+
+def palette_lookup(palette: np.ndarray) -> np.ndarray:
+    """A table from 5-bit B, G, R to the nearest palette index."""
+    levels = (np.arange(1 << LUT_BITS) << (8 - LUT_BITS)) + (1 << (7 - LUT_BITS))
+    b, g, r = np.meshgrid(levels, levels, levels, indexing="ij")
+    cube = np.stack([r.ravel(), g.ravel(), b.ravel()], axis=1).astype(np.int32)
+    best = np.zeros(len(cube), np.uint8)
+    best_d = np.full(len(cube), np.iinfo(np.int32).max, np.int64)
+    for i, colour in enumerate(palette.astype(np.int32)):
+        d = ((cube - colour) ** 2).sum(axis=1)
+        closer = d < best_d
+        best[closer], best_d[closer] = i, d[closer]
+    side = 1 << LUT_BITS
+    return best.reshape(side, side, side)
+
+
+class GifWriter:
+    """An animated, looping GIF, written as frames arrive.
+
+    All frames share one palette (the face has few colours). Each frame
+    stores only the rectangle that changed, and inside it pixels that did not
+    change are transparent, which compresses to almost nothing. Identical
+    frames merge into a longer one. Delays are in the GIF's 1/100 s, rounded
+    so that they add up to the true time.
+    """
+
+    def __init__(self, path: Path, size: Tuple[int, int], fps: float, palette: np.ndarray) -> None:
+        self.path = path
+        self.fps = fps
+        self.lut = palette_lookup(palette)
+        self.shift = 8 - LUT_BITS
+        padded = np.zeros((256, 3), np.uint8)
+        padded[: len(palette)] = palette
+        self.palette_bytes = padded.tobytes()
+        self.tmp = path.with_name(f".{path.name}.partial")
+        self.file = open(self.tmp, "wb")  # noqa: SIM115 - closed in close() or abort()
+        template = Image.new("P", size)
+        template.putpalette(self.palette_bytes)
+        header, _ = GifImagePlugin.getheader(template, self.palette_bytes, {"loop": 0})
+        for chunk in header:
+            self.file.write(chunk)
+        self.previous_bgr: Optional[np.ndarray] = None
+        self.previous_index: Optional[np.ndarray] = None
+        self.pending: Optional[Tuple[Image.Image, Tuple[int, int], bool]] = None
+        self.frames = 0  # frames given
+        self.written_centis = 0
+
+    def _index(self, bgr: np.ndarray) -> np.ndarray:
+        s = self.shift
+        return self.lut[bgr[..., 0] >> s, bgr[..., 1] >> s, bgr[..., 2] >> s]
+
+    def add(self, frame_bgr: np.ndarray) -> None:
+        if self.previous_bgr is None:
+            index = self._index(frame_bgr)
+            self.previous_bgr, self.previous_index = frame_bgr.copy(), index
+            self._queue(index, (0, 0), transparent=False)
+        else:
+            changed = frame_bgr != self.previous_bgr
+            rows = np.flatnonzero(changed.any(axis=(1, 2)))
+            if rows.size:
+                cols = np.flatnonzero(changed[rows[0] : rows[-1] + 1].any(axis=(0, 2)))
+                y0, y1, x0, x1 = rows[0], rows[-1] + 1, cols[0], cols[-1] + 1
+                crop = self._index(frame_bgr[y0:y1, x0:x1])
+                before = self.previous_index[y0:y1, x0:x1]
+                emitted = np.where(crop == before, np.uint8(TRANSPARENT), crop)
+                before[...] = crop
+                self.previous_bgr[y0:y1, x0:x1] = frame_bgr[y0:y1, x0:x1]
+                self._queue(emitted, (int(x0), int(y0)), transparent=True)
+        self.frames += 1
+
+    def _queue(self, index: np.ndarray, offset: Tuple[int, int], transparent: bool) -> None:
+        self._flush()
+        image = Image.fromarray(np.ascontiguousarray(index), "P")
+        image.putpalette(self.palette_bytes)
+        self.pending = (image, offset, transparent)
+
+    def _flush(self) -> None:
+        """Write the pending frame, which lasted until the current frame count."""
+        if self.pending is None:
+            return
+        image, offset, transparent = self.pending
+        until = int(round(self.frames * 100 / self.fps))
+        centis = max(until - self.written_centis, 2)  # browsers treat < 2 as 10
+        self.written_centis += centis
+        params = {"duration": centis * 10, "disposal": 1}
+        if transparent:
+            params["transparency"] = TRANSPARENT
+        for chunk in GifImagePlugin.getdata(image, offset, **params):
+            self.file.write(chunk)
+        self.pending = None
+
+    def close(self) -> None:
+        self._flush()
+        self.file.write(b";")
+        self.file.close()
+        os.replace(self.tmp, self.path)
+
+    def abort(self) -> None:
+        self.file.close()
+        if self.tmp.exists():
+            self.tmp.unlink()

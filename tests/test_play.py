@@ -1,0 +1,168 @@
+"""`baxterface play`: in a terminal, in a window, and keeping time."""
+
+from __future__ import annotations
+
+import os
+import random
+import shutil
+import subprocess
+import sys
+import time
+
+import pexpect
+import pytest
+
+from baxterface_cli import parse
+from baxterface_cli.idle import Animation
+from baxterface_cli.playback import Player, TerminalScreen
+from baxterface_cli.renderer import Renderer
+from baxterface_cli.theme import Theme
+from baxterface_cli.timeline import compile_script
+from conftest import ROOT
+
+SCRIPT = "happy; look 40 -20 in 0.5s; wobble 0.3; enable; follow human dynamic; wait 0.3s"
+
+
+def spawn_play(*args, env=None):
+    return pexpect.spawn(
+        sys.executable,
+        ["-m", "baxterface_cli", "play", "--terminal", "--no-idle", *args],
+        cwd=str(ROOT),
+        dimensions=(32, 100),
+        encoding="utf-8",
+        timeout=30,
+        env=env or dict(os.environ, TERM="xterm-256color"),
+    )
+
+
+def test_play_in_a_terminal_draws_truecolor_half_blocks_and_a_status_line():
+    child = spawn_play("-e", SCRIPT)
+    child.expect(pexpect.EOF)
+    screen = child.before
+    assert screen.count("\u2580") > 1000  # half-block cells
+    assert "\x1b[38;2;" in screen and ";48;2;" in screen  # 24-bit colours, upper and lower pixel
+    assert "head +0.30 rad" in screen and "enabled" in screen and "following human (dynamic)" in screen
+    assert "(terminal)" in screen
+    child.close()
+    assert child.exitstatus == 0
+
+
+def test_the_terminal_picture_keeps_the_faces_shape():
+    screen = TerminalScreen(columns=100, rows=32)
+    width, height = screen.fit((1024, 600))
+    assert width <= 100 and height // 2 <= 31
+    assert abs(width / height - 1024 / 600) < 0.1
+
+
+def test_play_watch_keeps_the_last_good_version_on_errors(tmp_path):
+    script = tmp_path / "w.face"
+    script.write_text("look left in 1s; look right in 1s\n", encoding="utf-8")
+    child = spawn_play("--watch", "--loop", str(script))
+    child.expect("2.0s")  # playing the 2 s script
+    script.write_text("look left in 1s; mouth smil\n", encoding="utf-8")
+    child.expect("kept the last good version: line 1: unknown mouth 'smil'", timeout=10)
+    script.write_text("look up in 3s\n", encoding="utf-8")
+    child.expect("/3.0s", timeout=10)  # the new version plays
+    child.sendintr()
+    child.expect(pexpect.EOF)
+    child.close()
+
+
+def test_no_display_and_no_terminal_says_to_render():
+    env = {k: v for k, v in os.environ.items() if k != "DISPLAY"}
+    proc = subprocess.run(
+        [sys.executable, "-m", "baxterface_cli", "play", "-e", "happy"],
+        cwd=str(ROOT),
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=60,
+    )
+    assert proc.returncode == 1
+    assert "no display and no terminal" in proc.stderr and "baxterface render" in proc.stderr
+
+
+def free_display() -> int:
+    for n in range(90, 140):
+        if not os.path.exists(f"/tmp/.X11-unix/X{n}") and not os.path.exists(f"/tmp/.X{n}-lock"):
+            return n
+    raise RuntimeError("no free X display number")
+
+
+@pytest.fixture
+def xvfb():
+    if shutil.which("Xvfb") is None:
+        if os.environ.get("CI"):
+            pytest.fail("Xvfb is missing: make test installs it")
+        pytest.skip("Xvfb is not installed (make test installs it)")
+    n = free_display()
+    proc = subprocess.Popen(["Xvfb", f":{n}", "-screen", "0", "1280x800x24", "-nolisten", "tcp"])
+    deadline = time.monotonic() + 20
+    while not os.path.exists(f"/tmp/.X11-unix/X{n}"):
+        assert proc.poll() is None and time.monotonic() < deadline, "Xvfb did not start"
+        time.sleep(0.05)
+    yield f":{n}"
+    proc.terminate()
+    proc.wait(timeout=10)
+
+
+def test_play_in_a_window_under_xvfb(xvfb):
+    env = dict(os.environ, DISPLAY=xvfb)
+    proc = subprocess.run(
+        [sys.executable, "-m", "baxterface_cli", "play", "--no-idle", "-e", "happy; look 40 -20 in 0.5s"],
+        cwd=str(ROOT),
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=60,
+    )
+    assert proc.returncode == 0, proc.stderr
+    assert "(window)" in proc.stderr
+    frames = int(proc.stderr.split(": ")[-1].split()[0])
+    assert frames >= 10
+
+
+class FakeClock:
+    """Time that passes only when the player sleeps or a frame costs some."""
+
+    def __init__(self) -> None:
+        self.now = 100.0
+
+    def __call__(self) -> float:
+        return self.now
+
+    def sleep(self, seconds: float) -> None:
+        self.now += seconds
+
+
+class CostlyScreen:
+    """A screen where showing a frame takes time (a slow terminal, say)."""
+
+    name = "fake"
+
+    def __init__(self, clock: FakeClock, cost) -> None:
+        self.clock, self.cost, self.shown = clock, cost, []
+
+    def show(self, frame, status) -> None:
+        self.shown.append(status.split("/")[0].strip())
+        self.clock.now += self.cost()
+
+    def alive(self) -> bool:
+        return True
+
+
+@pytest.mark.parametrize("cost", [0.002, 0.02, 0.07])
+def test_playback_keeps_time_without_drift_dropping_frames_when_late(cost):
+    timeline = compile_script(parse("look 40 0 in 5s; look 0 0 in 5s"))
+    clock = FakeClock()
+    rng = random.Random(1)
+    screen = CostlyScreen(clock, lambda: cost * rng.uniform(0.5, 1.5))
+    player = Player(
+        Animation(timeline), Renderer(Theme.default().layers((64, 40))), screen, 30, clock, clock.sleep
+    )
+    played = player.run()
+    assert abs(played - 10.0) <= 1 / 30 + 1.5 * cost  # the last frame's own cost may add
+    if cost < 1 / 30:
+        assert len(screen.shown) >= 300  # every frame shown
+    else:
+        assert len(screen.shown) < 300  # frames dropped, time kept

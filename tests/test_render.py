@@ -1,0 +1,139 @@
+"""`baxterface render`: GIFs, PNG folders and single PNGs, as files a user gets."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from baxterface_cli import parse
+from baxterface_cli.renderer import Renderer
+from baxterface_cli.theme import Theme
+from baxterface_cli.timeline import compile_script
+from conftest import ROOT, baxterface
+
+SCRIPT = "look 40 -20 in 0.5s ease-in-out; blink; look -30 10 in 0.4s; wobble 0.3"
+
+
+def gif_frames(path):
+    """(RGB array, duration in ms) of each frame, as a viewer shows them."""
+    with Image.open(path) as im:
+        out = []
+        for i in range(im.n_frames):
+            im.seek(i)
+            out.append((np.asarray(im.convert("RGB")).astype(int), im.info["duration"]))
+        return out, im.info.get("loop"), im.size
+
+
+def test_gif_loops_with_the_scripts_timing_and_the_right_pictures(tmp_path):
+    out = tmp_path / "show.gif"
+    run = baxterface("render", "-e", SCRIPT, "--out", str(out))
+    assert run.code == 0, run.err
+    frames, loop, size = gif_frames(out)
+    assert loop == 0 and size == (1024, 600)
+    timeline = compile_script(parse(SCRIPT), seed=0)
+    expected_frames = int(timeline.duration * 30 + 1e-9) + 1
+    total_ms = sum(ms for _, ms in frames)
+    assert total_ms == round(expected_frames * 100 / 30) * 10  # the true time, in GIF centiseconds
+    renderer = Renderer(Theme.default().layers((1024, 600)))
+    elapsed = 0
+    for rgb, ms in frames:
+        k = round(elapsed / 1000 * 30)
+        want = renderer.render(timeline.sample(k / 30))[..., ::-1].astype(int)
+        assert np.abs(rgb - want).mean() < 3.0, k
+        elapsed += ms
+
+
+def test_same_script_and_seed_give_byte_identical_gifs(tmp_path):
+    text = "happy; angry; crafty; bored; " + SCRIPT
+    a, b, c = (tmp_path / f"{n}.gif" for n in "abc")
+    for path, seed in ((a, "7"), (b, "7"), (c, "8")):
+        assert baxterface("render", "-e", text, "--seed", seed, "--out", str(path)).code == 0
+    assert a.read_bytes() == b.read_bytes()
+
+
+def test_a_folder_gets_numbered_frames_at_the_asked_size(tmp_path):
+    folder = tmp_path / "frames"
+    run = baxterface(
+        "render", "-e", "look 40 0 in 1s", "--out", f"{folder}/", "--fps", "10", "--size", "320x200"
+    )
+    assert run.code == 0, run.err
+    names = sorted(p.name for p in folder.iterdir())
+    assert names == [f"frame_{i:05d}.png" for i in range(11)]
+    assert Image.open(folder / "frame_00010.png").size == (320, 200)
+    assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]
+
+
+def test_a_png_is_the_last_frame_or_the_one_at_at(tmp_path):
+    text = "look 40 0 in 1s"
+    assert baxterface("render", "-e", text, "--out", str(tmp_path / "end.png")).code == 0
+    assert baxterface("render", "-e", text, "--at", "0.5", "--out", str(tmp_path / "mid.png")).code == 0
+    renderer = Renderer(Theme.default().layers((1024, 600)))
+    timeline = compile_script(parse(text))
+    for name, t in (("end.png", 1.0), ("mid.png", 0.5)):
+        got = np.asarray(Image.open(tmp_path / name).convert("RGB"))
+        assert np.array_equal(got, renderer.render(timeline.sample(t))[..., ::-1])
+
+
+def test_the_script_can_come_from_a_file_or_standard_input(tmp_path):
+    script = tmp_path / "s.face"
+    script.write_text("happy\n", encoding="utf-8")
+    assert baxterface("render", str(script), "--out", str(tmp_path / "a.png")).code == 0
+    assert baxterface("render", "--out", str(tmp_path / "b.png"), stdin="happy\n").code == 0
+    assert baxterface("render", "-", "--out", str(tmp_path / "c.png"), stdin="happy\n").code == 0
+    assert (
+        (tmp_path / "a.png").read_bytes()
+        == (tmp_path / "b.png").read_bytes()
+        == (tmp_path / "c.png").read_bytes()
+    )
+
+
+@pytest.mark.parametrize(
+    "args, code, message",
+    [
+        (["-e", "hapy", "--out", "x.gif"], 1, "<-e>:1:1: error: unknown command 'hapy'"),
+        (["-e", "happy", "--out", "x.mp4"], 2, "must end in .gif or .png"),
+        (["-e", "happy", "--out", "x.gif", "--size", "huge"], 2, "size must look like 1024x600"),
+        (["-e", "happy", "--out", "x.gif", "--theme", "/nonexistent"], 1, "not a theme folder"),
+        (["s.face", "-e", "happy", "--out", "x.gif"], 2, "not both"),
+    ],
+)
+def test_bad_requests_fail_clearly(tmp_path, args, code, message):
+    run = baxterface("render", *args, cwd=tmp_path)
+    assert run.code == code
+    assert message in run.err and "Traceback" not in run.err
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_quiet_without_a_terminal(tmp_path):
+    run = baxterface("render", "-e", "blink", "--out", str(tmp_path / "b.gif"))
+    assert (run.code, run.out, run.err) == (0, "", "")
+
+
+@pytest.mark.parametrize("signum", [signal.SIGTERM, signal.SIGINT])
+@pytest.mark.parametrize("target", ["long.gif", "frames/"])
+def test_a_render_killed_halfway_leaves_no_partial_file(tmp_path, signum, target):
+    # Long enough to be caught in the act: 2 minutes of looking about.
+    text = "repeat 60 { look 40 -20 in 1s; look -40 20 in 1s }"
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "baxterface_cli", "render", "-e", text, "--out", f"{tmp_path}/{target}", "-q"],
+        cwd=str(ROOT),
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+    )
+    deadline = time.monotonic() + 60
+    while not any(p.name.startswith(".") for p in tmp_path.iterdir()):  # the render has begun writing
+        assert proc.poll() is None and time.monotonic() < deadline
+        time.sleep(0.05)
+    time.sleep(0.3)
+    proc.send_signal(signum)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode != 0
+    assert b"Traceback" not in err
+    assert list(tmp_path.iterdir()) == [], os.listdir(tmp_path)
