@@ -9,6 +9,7 @@ frame = face.frame()        # (600, 1024, 3) uint8, B, G, R: ready for cv_bridge
 
 from __future__ import annotations
 
+import math
 import random
 from pathlib import Path
 from typing import List, Optional, Tuple, Union
@@ -20,8 +21,8 @@ from .diagnostics import did_you_mean
 from .geometry import clamp_to_ellipse
 from .renderer import Renderer
 from .state import FaceState
-from .tables import BROWS, EMOTIONS, MOUTHS, SKINS
-from .theme import Theme, resolve
+from .tables import BROWS, EMOTIONS, HEAD_PAN_LIMIT, MOUTHS, SKINS
+from .theme import MAX_SIDE, Theme, resolve
 
 
 def emotion_variants(name: str) -> List[Tuple[str, str]]:
@@ -40,10 +41,16 @@ def emotion_state(state: FaceState, name: str, variant: int) -> FaceState:
 def _check(value: str, choices: Tuple[str, ...], what: str) -> str:
     name = str(value).lower()
     if name not in choices:
-        raise ValueError(
-            f"unknown {what} {value!r}{did_you_mean(name, choices) or ''}; use one of {', '.join(choices)}"
-        )
+        hint = did_you_mean(name, choices) or f"; use one of {', '.join(choices)}"
+        raise ValueError(f"unknown {what} {value!r}{hint}")
     return name
+
+
+def _finite(value: float, what: str) -> float:
+    number = float(value)
+    if not math.isfinite(number):
+        raise ValueError(f"{what} must be a finite number, not {value!r}")
+    return number
 
 
 class Face:
@@ -59,6 +66,10 @@ class Face:
     ) -> None:
         self.theme = resolve(theme)
         self.size = (int(size[0]), int(size[1]))
+        if not all(16 <= side <= MAX_SIDE for side in self.size):
+            raise ValueError(
+                f"size must be from 16 to {MAX_SIDE} pixels a side, not {self.size[0]}x{self.size[1]}"
+            )
         self._renderer = Renderer(self.theme.layers(self.size))
         self.state = FaceState()
 
@@ -66,19 +77,20 @@ class Face:
 
     def look_at(self, x: float, y: float) -> Tuple[float, float]:
         """Put the eyes at (x, y), clamped to the eye ellipse; returns where they went."""
-        x, y = clamp_to_ellipse(float(x), float(y))
+        x, y = clamp_to_ellipse(_finite(x, "x"), _finite(y, "y"))
         self.state = self.state.replace(eye_x=x, eye_y=y)
         return x, y
 
     def set_eyelids(self, openness: float) -> None:
         """0 closed .. 1 open."""
-        if not 0.0 <= float(openness) <= 1.0:
+        if not 0.0 <= _finite(openness, "eyelid openness") <= 1.0:
             raise ValueError(f"eyelid openness must be from 0 to 1, not {openness}")
         self.state = self.state.replace(eyelids=float(openness))
 
     def set_head_pan(self, radians: float) -> None:
-        """Record the head pan (drawn by the robot, not on the screen)."""
-        self.state = self.state.replace(head_pan=float(radians))
+        """Record the head pan, clamped to +-1.5 rad (the robot turns; the screen does not show it)."""
+        pan = _finite(radians, "head pan")
+        self.state = self.state.replace(head_pan=max(-HEAD_PAN_LIMIT, min(HEAD_PAN_LIMIT, pan)))
 
     # -- parts
 
@@ -95,7 +107,7 @@ class Face:
         self.state = emotion_state(self.state, key, variant)
 
     def set_skin(self, index: int) -> None:
-        if index not in SKINS:
+        if isinstance(index, bool) or index not in SKINS:
             raise ValueError(f"skin must be from {min(SKINS)} to {max(SKINS)}, not {index}")
         self.state = self.state.replace(skin=int(index))
 

@@ -15,6 +15,7 @@ arithmetic; the tests hold the cached path to its exact pixels.
 
 from __future__ import annotations
 
+import math
 from collections import OrderedDict
 from typing import Dict, List, NamedTuple, Optional, Tuple
 
@@ -25,7 +26,7 @@ from .geometry import clamp_to_ellipse
 from .state import FaceState, Parts
 from .theme import ThemeLayers
 
-PARTS_KEPT = 8  # part combinations whose top stack and canvas are kept
+PARTS_KEPT = 12  # part combinations kept: every emotion's, with room to spare
 
 
 class Pose(NamedTuple):
@@ -38,8 +39,10 @@ class Pose(NamedTuple):
 
 def pose(layers: ThemeLayers, state: FaceState) -> Pose:
     """Screen offsets for a state: eyes clamped to their ellipse, lids to 0..1."""
-    x, y = clamp_to_ellipse(state.eye_x, state.eye_y)
-    openness = min(1.0, max(0.0, state.eyelids))
+    # A state is plain data anyone can build: a number that is not finite
+    # draws as the rest position rather than failing.
+    x, y = clamp_to_ellipse(*(v if math.isfinite(v) else 0.0 for v in (state.eye_x, state.eye_y)))
+    openness = min(1.0, max(0.0, state.eyelids)) if math.isfinite(state.eyelids) else 1.0
     s = layers.scale
     return Pose(_round(x * s), _round(y * s), -_round(layers.lid_travel * openness))
 

@@ -110,7 +110,8 @@ class Theme:
             raise ThemeError(f"{manifest_path}: 'lid_travel' must be a positive number of face pixels")
         images: Dict[Key, Placed] = {}
         for entry in _manifest_layers(manifest, manifest_path):
-            kind, name = entry["kind"], str(entry["name"])
+            kind = entry["kind"]
+            name = str(entry.get("name", kind))
             path = _layer_path(folder, entry["file"], manifest_path)
             anchor = _anchor(entry.get("anchor", [0, 0]), manifest_path, path)
             image = _read_image(path)
@@ -119,9 +120,8 @@ class Theme:
         missing = [key for key in artwork.layer_names() if key not in images]
         if missing:
             kind, name = missing[0]
-            raise ThemeError(
-                f"{manifest_path}: no {kind} layer named '{name}' ({len(missing)} layers missing)"
-            )
+            more = f" and {len(missing) - 1} more" if len(missing) > 1 else ""
+            raise ThemeError(f"{manifest_path}: no {kind} layer named '{name}'{more}")
         return cls(str(manifest.get("name", folder.name)), size, float(lid_travel), images)
 
     # -- fitting to a screen

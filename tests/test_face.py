@@ -158,6 +158,26 @@ def test_bad_part_names_and_values_are_refused_clearly(face):
         face.set_emotion("default", variant=3)
     with pytest.raises(ValueError, match="from 0 to 1"):
         face.set_eyelids(1.5)
+    with pytest.raises(ValueError, match="finite"):
+        face.look_at(float("inf"), 0)
+    with pytest.raises(ValueError, match="finite"):
+        face.look_at(float("nan"), 0)
+    with pytest.raises(ValueError, match="skin"):
+        face.set_skin(True)  # type: ignore[arg-type]
+    with pytest.raises(ValueError, match="size must be"):
+        Face(size=(0, 600))
+    face.frame()  # still drawable after every refusal
+
+
+def test_a_state_with_numbers_that_are_not_finite_still_draws():
+    face = Face(size=(256, 150))
+    face.state = face.state.replace(eye_x=float("nan"), eyelids=float("inf"))
+    assert face.frame().shape == (150, 256, 3)
+
+
+def test_head_pan_is_clamped_like_wobble(face):
+    face.set_head_pan(3.0)
+    assert face.state.head_pan == 1.5
 
 
 def test_random_variants_come_from_the_rng(face):
