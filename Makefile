@@ -13,7 +13,7 @@ ROS_PACKAGES := ros-core python3-rospy python3-cv-bridge python3-sensor-msgs pyt
 TEST_PACKAGES := $(ROS_PACKAGES) xvfb
 PIP_QUIET := --quiet --disable-pip-version-check
 
-.PHONY: play test lint format golden theme bench system venv venv38 clean
+.PHONY: play test lint format golden theme pictures bench system venv venv38 clean
 
 venv: $(VENV)/.installed
 venv38: $(VENV38)/.installed
@@ -55,6 +55,11 @@ golden: venv
 # Redraw assets/default/ from the vector shapes in baxterface_cli/artwork.py.
 theme: venv
 	$(BIN)/python assets/draw_default_theme.py
+
+# The pictures in docs/images/, drawn by the library and the command line.
+pictures: venv
+	$(BIN)/python docs/make_pictures.py
+	$(BIN)/baxterface render scripts_examples/hello.face --out docs/images/hello.gif --size 512x300 --fps 20
 
 # The benchmarks whose figures are in the README.
 bench: venv
