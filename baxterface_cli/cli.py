@@ -107,16 +107,16 @@ THEME_OPT = typer.Option(
 )
 FPS_HELP = "Frames per second."
 CROSSFADE_OPT = typer.Option(
-    0.15,
+    None,
     "--crossfade",
     metavar="SECONDS",
     min=0.0,
     max=2.0,
-    help="Blend part changes over this time; 0 cuts.",
+    help="Blend part changes over this time; 0 cuts. Default: 0.15 s, or cuts for the old node's commands.",
 )
 
 
-def animation_for(script: Script, seed: Optional[int], idle: bool, crossfade: float):
+def animation_for(script: Script, seed: Optional[int], idle: bool, crossfade: Optional[float]):
     from .idle import Animation
     from .timeline import compile_script
 
@@ -138,7 +138,7 @@ def render(
     ),
     theme: Optional[str] = THEME_OPT,
     idle: bool = typer.Option(False, "--idle", help="Add idle blinks and eye darts."),
-    crossfade: float = CROSSFADE_OPT,
+    crossfade: Optional[float] = CROSSFADE_OPT,
     quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress bar."),
 ) -> None:
     """Render a script to image files: numbered PNGs, an animated GIF, or one PNG.
@@ -192,7 +192,7 @@ def explain(
     fps: float = typer.Option(30.0, "--fps", min=1.0, max=120.0, help="Frames per second for --json."),
     seed: int = typer.Option(DEFAULT_SEED, "--seed", help=SEED_HELP),
     idle: bool = typer.Option(False, "--idle", help="Include idle blinks and eye darts (--json)."),
-    crossfade: float = CROSSFADE_OPT,
+    crossfade: Optional[float] = CROSSFADE_OPT,
 ) -> None:
     """Explain a script's timeline: what starts and ends when.
 
@@ -243,7 +243,7 @@ def play(
     seed: Optional[int] = typer.Option(None, "--seed", help=SEED_HELP + " Default: random."),
     theme: Optional[str] = THEME_OPT,
     idle: bool = typer.Option(True, "--idle/--no-idle", help="Idle blinks and eye darts."),
-    crossfade: float = CROSSFADE_OPT,
+    crossfade: Optional[float] = CROSSFADE_OPT,
 ) -> None:
     """Play a script in real time: in a window, or in this terminal.
 
@@ -282,7 +282,7 @@ def play(
     typer.echo(f"{summary}: {player.frames_shown} frames ({screen.name})", err=True)
 
 
-def _watcher(path: str, seed: Optional[int], idle: bool, crossfade: float, player):
+def _watcher(path: str, seed: Optional[int], idle: bool, crossfade: Optional[float], player):
     """A poll function: a new animation when the file changed and parses, else None."""
     state = {"mtime": os.stat(path).st_mtime_ns}
 

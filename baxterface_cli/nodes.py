@@ -168,6 +168,9 @@ class Script:
     filename: str = field(default="<script>", compare=False)
     warnings: Tuple[Any, ...] = field(default=(), compare=False, repr=False)
     source: str = field(default="", compare=False, repr=False)
+    # Written wholly in the old node's commands (`happy`, `look_40_-20_0.5`):
+    # played the way the old node played them, with hard cuts.
+    legacy: bool = field(default=False, compare=False)
 
     @property
     def definitions(self) -> Dict[str, Define]:
@@ -185,7 +188,7 @@ def to_json(node: Any) -> Any:
         return node
     out: Dict[str, Any] = {"type": type(node).__name__}
     for f in dataclasses.fields(node):
-        if f.name in ("pos", "warnings", "source"):
+        if f.name in ("pos", "warnings", "source", "legacy"):
             continue
         out[f.name] = to_json(getattr(node, f.name))
     pos = getattr(node, "pos", None)

@@ -26,7 +26,7 @@ from .easing import EASINGS
 from .geometry import clamp_to_ellipse, inside_ellipse
 from .resources import resource
 from .tables import BROWS, DIRECTIONS, HEAD_PAN_LIMIT, LIMITS, MOUTHS, SKINS, UNITS
-from .vocabulary import BARE_WORDS, LEGACY_USAGE
+from .vocabulary import BARE_WORDS, LEGACY_USAGE, LEGACY_WORDS
 
 _NUMBER = re.compile(r"([-+]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+))(.*)", re.S)
 _LEGACY_NUMBER = re.compile(r"_([-+]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+))")
@@ -43,6 +43,7 @@ def parse(text: str, filename: str = "<script>") -> n.Script:
     """Parse and check a script; raise one ScriptError carrying every diagnostic."""
     diagnostics: List[Diagnostic] = []
     body: Tuple[Any, ...] = ()
+    legacy = False
     if len(text) > LIMITS.max_bytes:
         diagnostics.append(
             Diagnostic(0, 0, f"script is too large ({len(text)} characters; the limit is {LIMITS.max_bytes})")
@@ -54,13 +55,23 @@ def parse(text: str, filename: str = "<script>") -> n.Script:
         if tree is not None:
             try:
                 body = _Builder(diagnostics).transform(tree)
+                legacy = _legacy_spelling(tree)
             except VisitError as e:  # a bug of ours, not the user's: let it show
                 raise e.orig_exc from e
             diagnostics.extend(check(body))
     diagnostics.sort(key=lambda d: (d.line or math.inf, d.column))
     if any(d.severity == "error" for d in diagnostics):
         raise ScriptError(diagnostics, filename, text)
-    return n.Script(body, filename, tuple(diagnostics), text)
+    return n.Script(body, filename, tuple(diagnostics), text, legacy)
+
+
+def _legacy_spelling(tree: Any) -> bool:
+    """Is every statement one of the old node's commands, as it typed them?"""
+    statements = tree.children
+    return bool(statements) and all(
+        s.data == "legacy" or (s.data == "word" and str(s.children[0]).lower() in LEGACY_WORDS)
+        for s in statements
+    )
 
 
 def parse_file(path: Union[str, Path], display_name: Optional[str] = None) -> n.Script:

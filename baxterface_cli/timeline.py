@@ -355,9 +355,15 @@ def compile_script(
     script: n.Script,
     seed: Optional[int] = 0,
     start: Optional[FaceState] = None,
-    crossfade: float = CROSSFADE,
+    crossfade: Optional[float] = None,
 ) -> Timeline:
-    """Compile a parsed script; the same script and seed give the same timeline."""
+    """Compile a parsed script; the same script and seed give the same timeline.
+
+    Part swaps blend over `crossfade` seconds: by default CROSSFADE for a
+    script and none (a cut, as the old node did) for legacy commands.
+    """
+    if crossfade is None:
+        crossfade = 0.0 if script.legacy else CROSSFADE
     compiler = _Compiler(script, random.Random(seed), start or FaceState(), crossfade)
     end = compiler.sequence(script.body, 0.0)
     for event in sorted(compiler.events, key=lambda e: (e.at, e.order)):

@@ -31,6 +31,9 @@ BARE_WORDS: Dict[str, Callable[..., Any]] = {
     "arm_follow_off": partial(n.Follow, None),
 }
 
+# The bare words that were commands of the old node (blink and nod are new).
+LEGACY_WORDS = frozenset(BARE_WORDS) - {"blink", "nod"}
+
 # Legacy commands with numbers: how many numbers each takes, and its usage.
 LEGACY_USAGE: Dict[str, Tuple[Tuple[int, ...], str]] = {
     "look": ((2, 3), "look_X_Y or look_X_Y_SECONDS"),

@@ -87,7 +87,7 @@ def test_emotions_move_the_lids_first_then_change_the_parts(name):
 
 
 def test_emotion_lid_times_follow_the_original():
-    assert timeline("sleep").duration == pytest.approx(0.6 + 0.15)
+    assert timeline("sleep", crossfade=0.15).duration == pytest.approx(0.6 + 0.15)
     assert timeline("wake up", crossfade=0).duration == pytest.approx(0.8)
     tl = timeline("sleep", crossfade=0)
     assert tl.sample(0.3).eyelids == pytest.approx(0.5)
@@ -202,3 +202,22 @@ def test_frame_times_cover_the_end():
     times = tl.frame_times(30)
     assert len(times) == 31 and times[-1] == pytest.approx(1.0)
     assert math.isclose(times[1], 1 / 30)
+
+
+@pytest.mark.parametrize(
+    "text, legacy",
+    [
+        ("happy", True),
+        ("wake_up\nlook_40_-20_0.5\nskin_3\nhuman_follow_on", True),
+        ("happy; blink", False),  # blink is new
+        ("look 40 -20", False),
+        ("mouth teeth", False),
+        ("", False),
+    ],
+)
+def test_the_old_nodes_commands_cut_and_scripts_crossfade_by_default(text, legacy):
+    script = parse(text)
+    assert script.legacy is legacy
+    fades = {c.fade for c in compile_script(script).parts}
+    assert fades <= ({0.0} if legacy else {0.15})
+    assert {c.fade for c in compile_script(script, crossfade=0.3).parts} <= {0.3}
