@@ -179,6 +179,8 @@ class Player:
     ) -> float:
         """Play to the end (again and again with `loop`; then keep the last frame with `hold`).
 
+        A script that takes no time, looped, is held rather than spun.
+
         `poll`, called between frames, may hand over a new animation, which
         starts from its beginning. Returns the seconds played.
         """
@@ -192,11 +194,11 @@ class Player:
             elapsed = self.clock() - start
             duration = self.animation.duration
             if elapsed > duration:
-                if loop:
-                    start += duration * int(elapsed // duration) if duration > 0 else elapsed
+                if loop and duration > 0:
+                    start += duration * int(elapsed // duration)
                     continue
                 self._show(duration)
-                if not hold:
+                if not hold and not loop:
                     return self.clock() - began
                 self.sleep(1.0 / self.fps)  # keep the last frame, and keep polling
                 continue

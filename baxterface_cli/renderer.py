@@ -21,7 +21,7 @@ from typing import Dict, List, NamedTuple, Optional, Tuple
 
 import numpy as np
 
-from .compositing import Rect, div255, div255_inplace, finish, intersect, lay
+from .compositing import Rect, Sprite, div255, div255_inplace, finish, intersect, lay
 from .geometry import clamp_to_ellipse
 from .state import FaceState, Parts
 from .theme import ThemeLayers
@@ -79,6 +79,11 @@ def top_stack(
     else:
         prem = np.zeros(shape + (3,), np.uint16)
         inv = np.full(shape + (3,), 255, np.uint16)
+    return _stack(rect, sprites, prem, inv)
+
+
+def _stack(rect: Rect, sprites: List[Sprite], prem: np.ndarray, inv: np.ndarray) -> TopStack:
+    """Lay `sprites` in order over the top stack (prem, inv) that covers `rect`."""
     for sprite in sprites:
         hit = intersect(rect, sprite.rect())
         if hit is None:
@@ -94,14 +99,10 @@ def top_stack(
 def skin_stack(layers: ThemeLayers, skin: int) -> TopStack:
     """A skin alone as a top stack over the whole screen, kept as uint8 (it fits)."""
     w, h = layers.size
-    prem = np.zeros((h, w, 3), np.uint16)
-    inv = np.full((h, w, 1), 255, np.uint16)
-    sprite = layers.skins[skin]
-    lay(prem, (0, 0, w, h), sprite)
-    x0, y0, x1, y1 = sprite.rect()
-    inv[y0:y1, x0:x1] = div255(inv[y0:y1, x0:x1] * sprite.inv[..., :1])
+    prem, inv = np.zeros((h, w, 3), np.uint16), np.full((h, w, 3), 255, np.uint16)
+    top = _stack((0, 0, w, h), [layers.skins[skin]], prem, inv)
     # Kept as uint8, and with one alpha channel: this is the big cache.
-    return TopStack(prem.astype(np.uint8), inv.astype(np.uint8))
+    return TopStack(top.prem.astype(np.uint8), top.inv[..., :1].astype(np.uint8))
 
 
 def bottom_stack(layers: ThemeLayers, at: Pose, rect: Rect) -> np.ndarray:

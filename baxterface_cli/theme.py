@@ -9,6 +9,7 @@ its vector shapes at any other size; other themes are resampled to fit.
 
 from __future__ import annotations
 
+import io
 import json
 import math
 import os
@@ -22,6 +23,7 @@ from PIL import Image
 
 from . import artwork
 from .compositing import Sprite, split_columns, sprite_from_rgba
+from .output import write_atomic
 from .resources import resource
 
 MANIFEST = "theme.json"
@@ -160,12 +162,14 @@ class Theme:
         for (kind, name), placed in self.placed_at(size).items():
             filename = f"{kind}.png" if kind == name else f"{kind}-{name}.png"
             path = folder / filename
-            _write_atomic(path, lambda tmp, im=placed.image: im.save(tmp, format="PNG", optimize=True))
+            data = io.BytesIO()
+            placed.image.save(data, format="PNG", optimize=True)
+            write_atomic(path, data.getvalue())
             written.append(path)
             layers.append({"kind": kind, "name": name, "file": filename, "anchor": list(placed.anchor)})
         manifest = {"name": self.name, "size": list(size), "lid_travel": self.lid_travel, "layers": layers}
         text = json.dumps(manifest, indent=2) + "\n"
-        _write_atomic(folder / MANIFEST, lambda tmp: Path(tmp).write_text(text, encoding="utf-8"))
+        write_atomic(folder / MANIFEST, text.encode("utf-8"))
         return [*written, folder / MANIFEST]
 
 
@@ -349,14 +353,3 @@ def _prepare(placed: Dict[Key, Placed], size: Size, lid_travel: float) -> ThemeL
         mouths={n: _sprite(p, size) for (k, n), p in placed.items() if k == "mouth"},
         brows={n: _sprite(p, size) for (k, n), p in placed.items() if k == "brows"},
     )
-
-
-def _write_atomic(path: Path, write: callable) -> None:  # type: ignore[valid-type]
-    """Write through a temporary file beside `path`, then rename over it."""
-    tmp = path.with_name(f".{path.name}.tmp")
-    try:
-        write(tmp)
-        os.replace(tmp, path)
-    finally:
-        if tmp.exists():
-            tmp.unlink()

@@ -395,7 +395,7 @@ def describe(s: Any) -> str:
         return f" in {seconds:g}s" + ("" if easing == "linear" else f" {easing}")
 
     if isinstance(s, n.Emotion):
-        return s.name if s.name != "sleep" else "sleep"
+        return s.name
     if isinstance(s, n.Look):
         kind = "dynamic look" if s.dynamic else "look"
         return f"{kind} {s.x:g} {s.y:g}{timed(s.duration, s.easing, TIMING.look)}"

@@ -151,6 +151,19 @@ class CostlyScreen:
         return True
 
 
+def test_looping_a_script_that_takes_no_time_holds_it_without_spinning():
+    timeline = compile_script(parse("enable"))
+    assert timeline.duration == 0
+    clock = FakeClock()
+    screen = CostlyScreen(clock, lambda: 0.0)
+    screen.alive = lambda: len(screen.shown) < 90  # about three seconds, then the user closes it
+    player = Player(
+        Animation(timeline), Renderer(Theme.default().layers((64, 40))), screen, 30, clock, clock.sleep
+    )
+    played = player.run(loop=True)
+    assert played == pytest.approx(3.0, abs=0.1)  # it slept between frames: one frame per 1/30 s
+
+
 @pytest.mark.parametrize("cost", [0.002, 0.02, 0.07])
 def test_playback_keeps_time_without_drift_dropping_frames_when_late(cost):
     timeline = compile_script(parse("look 40 0 in 5s; look 0 0 in 5s"))
