@@ -137,3 +137,23 @@ def test_a_render_killed_halfway_leaves_no_partial_file(tmp_path, signum, target
     assert proc.returncode != 0
     assert b"Traceback" not in err
     assert list(tmp_path.iterdir()) == [], os.listdir(tmp_path)
+
+
+def test_a_terminal_gets_a_progress_bar(tmp_path):
+    import pexpect
+
+    out = tmp_path / "p.gif"
+    child = pexpect.spawn(
+        sys.executable,
+        ["-m", "baxterface_cli", "render", "-e", "look 40 0 in 3s", "--out", str(out)],
+        cwd=str(ROOT),
+        dimensions=(24, 100),
+        encoding="utf-8",
+        timeout=60,
+    )
+    child.expect(pexpect.EOF)
+    child.close()
+    assert child.exitstatus == 0
+    assert "rendering" in child.before  # the bar, drawn while it worked
+    assert f"wrote {out} (91 frames, 3.00 s)" in child.before
+    assert out.exists()
