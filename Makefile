@@ -5,18 +5,22 @@ PYTHON ?= python3
 PY38 ?= $(firstword $(wildcard $(HOME)/.pyenv/versions/3.8*/bin/python3.8))
 VENV := .venv
 VENV38 := .venv38
+# Debian's Python, where ROS's rospy and cv_bridge live (with Debian's numpy).
+VENV_ROS := .venv-ros
+ROS_PYTHON := /usr/bin/python3
 BIN := $(VENV)/bin
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 ROS_PACKAGES := ros-core python3-rospy python3-cv-bridge python3-sensor-msgs python3-std-msgs \
 	python3-geometry-msgs python3-genpy python3-rostopic
 # Xvfb: a screen for the tests of `play`'s window.
-TEST_PACKAGES := $(ROS_PACKAGES) xvfb
+TEST_PACKAGES := $(ROS_PACKAGES) python3-venv xvfb
 PIP_QUIET := --quiet --disable-pip-version-check
 
-.PHONY: play test lint format golden theme pictures bench system venv venv38 clean
+.PHONY: play test lint format golden theme pictures bench system venv venv38 venv-ros clean
 
 venv: $(VENV)/.installed
 venv38: $(VENV38)/.installed
+venv-ros: $(VENV_ROS)/.installed
 
 $(VENV)/.installed: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -27,6 +31,12 @@ $(VENV38)/.installed: pyproject.toml
 	@test -n "$(PY38)" || { echo "make: no Python 3.8 found (looked in ~/.pyenv/versions/3.8*); set PY38=/path/to/python3.8"; exit 1; }
 	$(PY38) -m venv $(VENV38)
 	$(VENV38)/bin/pip install $(PIP_QUIET) -e '.[test]'
+	touch $@
+
+# The ROS tests' environment: sees Debian's ROS packages, adds only what they lack.
+$(VENV_ROS)/.installed: pyproject.toml | system
+	$(ROS_PYTHON) -m venv --system-site-packages $(VENV_ROS)
+	$(VENV_ROS)/bin/pip install $(PIP_QUIET) -e '.[test]'
 	touch $@
 
 # Debian packages: ROS 1 (roscore, rospy, cv_bridge; see ../shared/spec/baxter-ros.md) and Xvfb.
@@ -43,9 +53,10 @@ format: venv
 	$(BIN)/ruff check --fix .
 	$(BIN)/ruff format .
 
-test: lint system venv venv38
+test: lint system venv venv38 venv-ros
 	$(BIN)/python -m pytest
-	$(VENV38)/bin/python -m pytest -m "not slow" -p no:cacheprovider
+	$(VENV38)/bin/python -m pytest -m "not slow and not ros" -p no:cacheprovider
+	$(VENV_ROS)/bin/python -m pytest -m ros -p no:cacheprovider -W ignore::DeprecationWarning
 
 # Rewrite the golden files (error output, face images) after a deliberate
 # change; review them with `git diff` before committing.
@@ -72,4 +83,4 @@ play: venv
 	$(BIN)/baxterface play scripts_examples/show.face
 
 clean:
-	rm -rf $(VENV) $(VENV38) .pytest_cache .hypothesis .ruff_cache build dist
+	rm -rf $(VENV) $(VENV38) $(VENV_ROS) .pytest_cache .hypothesis .ruff_cache build dist

@@ -66,8 +66,8 @@ class Idle:
                 self._dart_starts.append(dart.at)
             self._next_dart = dart.end + self.rng.uniform(*DART_EVERY)
 
-    def apply(self, t: float, state: FaceState) -> FaceState:
-        """`state` with any blink or dart under way at `t` laid over it."""
+    def apply(self, t: float, state: FaceState, darts: bool = True) -> FaceState:
+        """`state` with any blink (and dart, unless told not) under way at `t` laid over it."""
         i = bisect.bisect_right(self.blinks, t) - 1
         if i >= 0 and t - self.blinks[i] < TIMING.blink_close + TIMING.blink_open:
             u = t - self.blinks[i]
@@ -75,7 +75,7 @@ class Idle:
             shut = 1 - u / TIMING.blink_close if closing else (u - TIMING.blink_close) / TIMING.blink_open
             state = state.replace(eyelids=state.eyelids * shut)
         i = bisect.bisect_right(self._dart_starts, t) - 1
-        if i >= 0 and t < self.darts[i].end:
+        if darts and i >= 0 and t < self.darts[i].end:
             dart = self.darts[i]
             u = t - dart.at
             out = min(1.0, u / DART_MOVE, (dart.end - t) / DART_MOVE)

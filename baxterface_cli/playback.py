@@ -164,6 +164,7 @@ class Player:
         fps: float = 30.0,
         clock: Callable[[], float] = time.monotonic,
         sleep: Callable[[float], None] = time.sleep,
+        on_time: Optional[Callable[[float], None]] = None,
     ) -> None:
         self.animation = animation
         self.renderer = renderer
@@ -173,6 +174,7 @@ class Player:
         self.sleep = sleep
         self.frames_shown = 0
         self.note = ""
+        self.on_time = on_time  # told each frame's time first: for robot actions
 
     def run(
         self, loop: bool = False, hold: bool = False, poll: Optional[Callable[[], Optional[Animation]]] = None
@@ -210,6 +212,8 @@ class Player:
         return self.clock() - began
 
     def _show(self, t: float) -> None:
+        if self.on_time is not None:
+            self.on_time(t)
         state = self.animation.sample(t)
         status = status_line(
             t, self.animation.duration, self.animation.timeline.status(t), state.head_pan, self.note

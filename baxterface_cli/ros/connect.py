@@ -1,0 +1,43 @@
+"""Getting to ROS: clear words when it is not installed or its master is not there."""
+
+from __future__ import annotations
+
+import os
+
+INSTALL_HINT = (
+    "ROS 1 is not installed for this Python (rospy and cv_bridge are needed). On a robot "
+    "workstation, source /opt/ros/noetic/setup.bash first; on Debian, "
+    "'apt-get install python3-rospy python3-cv-bridge python3-sensor-msgs python3-std-msgs "
+    "python3-genpy ros-core' and use /usr/bin/python3"
+)
+
+
+class RosUnavailable(Exception):
+    """ROS cannot be used from here; the message says why and what to do."""
+
+
+def require_ros() -> None:
+    try:
+        import cv_bridge  # noqa: F401
+        import rospy  # noqa: F401
+    except ImportError as e:
+        raise RosUnavailable(f"{INSTALL_HINT} ({e})") from None
+
+
+def require_master(timeout: float = 3.0) -> None:
+    """Fail fast, naming ROS_MASTER_URI, instead of rospy's endless wait for a master."""
+    import socket
+
+    import rosgraph
+
+    uri = os.environ.get("ROS_MASTER_URI", "http://localhost:11311 (ROS_MASTER_URI is not set)")
+    previous = socket.getdefaulttimeout()
+    socket.setdefaulttimeout(timeout)
+    try:
+        online = rosgraph.is_master_online()
+    except Exception:
+        online = False
+    finally:
+        socket.setdefaulttimeout(previous)
+    if not online:
+        raise RosUnavailable(f"cannot reach the ROS master at ROS_MASTER_URI={uri}; is roscore running?")

@@ -1,0 +1,89 @@
+"""`baxterface send` and `baxterface stream`: a face node's command topic, or the screen itself."""
+
+from __future__ import annotations
+
+import time
+from typing import List, Optional
+
+from ..idle import Animation
+from ..playback import Player
+from ..renderer import Renderer
+from ..timeline import Action
+from .messages import message_class
+from .node import DISPLAY_TOPICS
+
+
+class NoSubscriber(Exception):
+    pass
+
+
+def send(text: str, topic: str, timeout: float, argv: List[str]) -> None:
+    """Publish `text` once a subscriber (a face node) is listening on `topic`."""
+    import rospy
+    from std_msgs.msg import String
+
+    rospy.init_node("baxterface_send", argv=argv, anonymous=True, disable_signals=True)
+    publisher = rospy.Publisher(topic, String, queue_size=1)
+    deadline = time.monotonic() + timeout
+    while publisher.get_num_connections() == 0:
+        if time.monotonic() > deadline:
+            raise NoSubscriber(f"nothing listens on {rospy.resolve_name(topic)}: is the face node running?")
+        time.sleep(0.01)
+    publisher.publish(String(text))
+    time.sleep(0.3)  # publishing is asynchronous: give it time to leave
+    rospy.signal_shutdown("sent")
+
+
+class _RosScreen:
+    """A screen that is the robot's: frames go to its display topic."""
+
+    name = "robot"
+
+    def __init__(self, topic: str) -> None:
+        import cv_bridge
+        import rospy
+        from sensor_msgs.msg import Image
+
+        self.rospy = rospy
+        self.bridge = cv_bridge.CvBridge()
+        self.publisher = rospy.Publisher(topic, Image, latch=True, queue_size=1)
+        self.last: Optional[bytes] = None
+
+    def show(self, frame, status: str) -> None:
+        data = frame.tobytes()
+        if data != self.last:  # an unchanged frame is not sent again
+            self.publisher.publish(self.bridge.cv2_to_imgmsg(frame, encoding="bgr8"))
+            self.last = data
+
+    def alive(self) -> bool:
+        return not self.rospy.is_shutdown()
+
+
+def stream(animation: Animation, renderer: Renderer, robot: str, fps: float, argv: List[str]) -> float:
+    """Play `animation` on the robot's screen in real time, with its head commands."""
+    import rospy
+    from std_msgs.msg import Bool
+
+    rospy.init_node("baxterface_stream", argv=argv, anonymous=True, disable_signals=True)
+    screen = _RosScreen(DISPLAY_TOPICS[robot])
+    pan = rospy.Publisher("/robot/head/command_head_pan", message_class("HeadPanCommand"), queue_size=10)
+    nod = rospy.Publisher("/robot/head/command_head_nod", Bool, queue_size=1)
+    enable = rospy.Publisher("/robot/set_super_enable", Bool, queue_size=10)
+    time.sleep(0.5)  # let subscribers connect before the first frame
+    pending: List[Action] = list(animation.timeline.actions)
+
+    def on_time(t: float) -> None:
+        while pending and pending[0].at <= t:
+            action = pending.pop(0)
+            if action.kind == "head":
+                pan.publish(target=action.value, speed_ratio=1.0, enable_pan_request=1)
+            elif action.kind == "nod":
+                nod.publish(Bool(True))
+            elif action.kind in ("enable", "disable"):
+                enable.publish(Bool(action.kind == "enable"))
+
+    player = Player(animation, renderer, screen, fps, on_time=on_time)
+    played = player.run()
+    time.sleep(0.3)
+    rospy.signal_shutdown("streamed")
+    return played

@@ -1,0 +1,426 @@
+"""The face node against a real ROS master, talked to through real topics.
+
+These run under Debian's Python with rospy (make test's third run, `-m ros`).
+Each test starts its own node; one roscore on a free loopback port serves all.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import random
+import signal
+import socket
+import struct
+import subprocess
+import sys
+import threading
+import time
+from pathlib import Path
+
+import pytest
+
+from conftest import ROOT
+
+pytestmark = pytest.mark.ros
+
+
+def free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+@pytest.fixture(scope="session")
+def ros(tmp_path_factory):
+    """A roscore on loopback, and this process as a ROS node on it."""
+    port = free_port()
+    home = tmp_path_factory.mktemp("ros_home")
+    env = dict(os.environ, ROS_MASTER_URI=f"http://127.0.0.1:{port}", ROS_IP="127.0.0.1", ROS_HOME=str(home))
+    env.pop("ROS_HOSTNAME", None)
+    os.environ.update({k: env[k] for k in ("ROS_MASTER_URI", "ROS_IP", "ROS_HOME")})
+    core = subprocess.Popen(
+        ["roscore", "-p", str(port)], env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL
+    )
+    import rosgraph
+    import rospy
+
+    deadline = time.monotonic() + 30
+    while not rosgraph.is_master_online():
+        assert core.poll() is None and time.monotonic() < deadline, "roscore did not start"
+        time.sleep(0.1)
+    rospy.init_node("pytest_face", anonymous=True, disable_signals=True)
+    yield env
+    rospy.signal_shutdown("tests done")
+    core.send_signal(signal.SIGINT)
+    core.wait(timeout=30)
+
+
+class Topic:
+    """Everything published on a topic since this started listening."""
+
+    def __init__(self, name, msg_class):
+        import rospy
+
+        self.messages = []
+        self.arrived = threading.Condition()
+        self.sub = rospy.Subscriber(name, msg_class, self._got, queue_size=100)
+
+    def _got(self, msg):
+        with self.arrived:
+            self.messages.append((time.monotonic(), msg))
+            self.arrived.notify_all()
+
+    def wait_for(self, test=lambda m: True, timeout=15.0, after=0):
+        """The first message (from index `after`) passing `test`."""
+        deadline = time.monotonic() + timeout
+        with self.arrived:
+            while True:
+                for _, msg in self.messages[after:]:
+                    if test(msg):
+                        return msg
+                left = deadline - time.monotonic()
+                assert left > 0, f"no such message on {self.sub.name} ({len(self.messages)} seen)"
+                self.arrived.wait(left)
+
+    def close(self):
+        self.sub.unregister()
+
+
+def start_node(ros, *args):
+    return subprocess.Popen(
+        [sys.executable, "-m", "baxterface_cli", "node", "_idle:=false", *args],
+        cwd=str(ROOT),
+        env=ros,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+    )
+
+
+@pytest.fixture
+def node(ros):
+    from std_msgs.msg import String
+
+    state = Topic("/baxter_face/state", String)
+    proc = start_node(ros)
+    state.wait_for(timeout=30)  # up: its ~state is latched at start
+    yield proc, state
+    state.close()
+    if proc.poll() is None:
+        proc.send_signal(signal.SIGTERM)
+        proc.wait(timeout=20)
+
+
+def report(state_topic, after=0, test=lambda r: True, timeout=15.0):
+    msg = state_topic.wait_for(lambda m: test(json.loads(m.data)), timeout=timeout, after=after)
+    return json.loads(msg.data)
+
+
+def rostopic_pub(ros, text, topic="/display_chatter"):
+    subprocess.run(
+        ["rostopic", "pub", "-1", topic, "std_msgs/String", text],
+        env=ros,
+        check=True,
+        timeout=30,
+        stdout=subprocess.DEVNULL,
+    )
+
+
+def pixel(image, x, y):
+    """(R, G, B) of a bgr8 image message's pixel, read from its bytes."""
+    offset = y * image.step + 3 * x
+    b, g, r = image.data[offset : offset + 3]
+    return r, g, b
+
+
+def test_rostopic_pub_happy_changes_the_screen_to_a_warm_bgr8_face(ros, node):
+    from sensor_msgs.msg import Image
+
+    proc, state = node
+    screen = Topic("/robot/xdisplay", Image)
+    asleep = screen.wait_for()
+    assert (asleep.width, asleep.height, asleep.encoding, asleep.step) == (1024, 600, "bgr8", 3072)
+    r, g, b = pixel(asleep, 512, 300)
+    assert b > r  # the sleepy skin is lavender
+    seen = len(screen.messages)
+    rostopic_pub(ros, "happy")
+    awake = screen.wait_for(lambda m: pixel(m, 512, 300)[0] > pixel(m, 512, 300)[2] + 60, after=seen)
+    assert awake.encoding == "bgr8" and len(awake.data) == 1024 * 600 * 3
+    assert (
+        report(state, test=lambda r: r["emotion"] == "happy" and r["mouth"] in ("teeth", "smile-open"))[
+            "skin"
+        ]
+        == 2
+    )
+    screen.close()
+
+
+@pytest.mark.parametrize(
+    "command, check",
+    [
+        ("sad", lambda r: r["emotion"] == "sad" and r["skin"] == 1),
+        ("wake_up", lambda r: r["emotion"] == "wake up" and r["eyelids"] == 1.0),
+        ("look_40_-20_0.5", lambda r: (r["eye_x"], r["eye_y"]) == (40.0, -20.0)),
+        ("look 200 0 in 0.2s", lambda r: r["eye_x"] == 80.0),
+        ("skin_4", lambda r: r["skin"] == 4),
+        ("dynamic_human_follow_on", lambda r: r["following"] == "human" and r["follow_dynamic"]),
+    ],
+)
+def test_each_command_shows_on_state(ros, node, command, check):
+    proc, state = node
+    rostopic_pub(ros, command)
+    assert check(report(state, test=check))
+
+
+def test_wobble_sends_the_clamped_head_pan_and_enable_sends_true(ros, node):
+    from std_msgs.msg import Bool
+
+    from baxterface_cli.ros.messages import message_class
+
+    pan = Topic("/robot/head/command_head_pan", message_class("HeadPanCommand"))
+    enable = Topic("/robot/set_super_enable", Bool)
+    time.sleep(0.5)
+    rostopic_pub(ros, "wobble_2.0")
+    command = pan.wait_for()
+    assert command.target == pytest.approx(1.5) and command.enable_pan_request == 1
+    rostopic_pub(ros, "enable")
+    assert enable.wait_for().data is True
+    pan.close()
+    enable.close()
+
+
+def test_the_head_is_never_commanded_while_the_robot_says_disabled(ros, node):
+    import rospy
+
+    from baxterface_cli.ros.messages import message_class
+
+    AssemblyState = message_class("AssemblyState")
+    robot = rospy.Publisher("/robot/state", AssemblyState, latch=True, queue_size=1)
+    pan = Topic("/robot/head/command_head_pan", message_class("HeadPanCommand"))
+    proc, state = node
+    robot.publish(AssemblyState(enabled=False))
+    report(state, test=lambda r: r["enabled"] is False)
+    rostopic_pub(ros, "wobble_0.5")
+    rostopic_pub(ros, "happy")  # a later command shows the first was handled
+    report(state, test=lambda r: r["emotion"] == "happy")
+    time.sleep(0.5)
+    assert pan.messages == []
+    robot.publish(AssemblyState(enabled=True))
+    report(state, test=lambda r: r["enabled"] is True)
+    rostopic_pub(ros, "wobble_0.5")
+    assert pan.wait_for().target == pytest.approx(0.5)
+    pan.close()
+    robot.unregister()
+
+
+def test_enable_is_repeated_until_the_robot_agrees(ros, node):
+    import rospy
+    from std_msgs.msg import Bool
+
+    from baxterface_cli.ros.messages import message_class
+
+    AssemblyState = message_class("AssemblyState")
+    robot = rospy.Publisher("/robot/state", AssemblyState, latch=True, queue_size=1)
+    robot.publish(AssemblyState(enabled=False))
+    enable = Topic("/robot/set_super_enable", Bool)
+    time.sleep(0.5)
+    rostopic_pub(ros, "enable")
+    deadline = time.monotonic() + 10
+    while len(enable.messages) < 3:
+        assert time.monotonic() < deadline
+        time.sleep(0.05)
+    robot.publish(AssemblyState(enabled=True))
+    time.sleep(0.5)
+    settled = len(enable.messages)
+    time.sleep(0.6)
+    assert len(enable.messages) == settled  # it stopped asking once the robot agreed
+    enable.close()
+    robot.unregister()
+
+
+def raw_string_class():
+    """A std_msgs/String whose bytes are whatever we like, valid UTF-8 or not."""
+    from std_msgs.msg import String
+
+    class RawString(String):
+        __slots__ = ["data"]
+
+        def serialize(self, buff):
+            buff.write(struct.pack("<I", len(self.data)) + self.data)
+
+    return RawString
+
+
+def test_garbage_leaves_the_node_up_and_answering(ros, node):
+    import rospy
+    from std_msgs.msg import String
+
+    proc, state = node
+    RawString = raw_string_class()
+    raw = rospy.Publisher("/display_chatter", RawString, queue_size=10)
+    text = rospy.Publisher("/display_chatter", String, queue_size=10)
+    time.sleep(1.0)
+    rng = random.Random(0)
+    raw.publish(RawString(data=bytes(rng.randrange(256) for _ in range(2000))))
+    for junk in [
+        "look_a_b",
+        "look_nan_0",
+        "x" * 1_000_000,
+        "".join(chr(rng.randrange(1, 0x2FFF)) for _ in range(500)),
+    ]:
+        text.publish(String(junk))
+    text.publish(String("crafty"))
+    shown = report(
+        state, test=lambda r: r["emotion"] == "crafty" and r["mouth"] in ("teeth", "smile-open"), timeout=30
+    )
+    assert shown["skin"] == 3
+    assert proc.poll() is None
+    raw.unregister()
+    text.unregister()
+
+
+def test_exit_publishes_the_sleep_face_then_ends_with_status_0(ros, node):
+    from sensor_msgs.msg import Image
+
+    proc, state = node
+    rostopic_pub(ros, "happy")
+    report(state, test=lambda r: r["emotion"] == "happy")
+    screen = Topic("/robot/xdisplay", Image)
+    rostopic_pub(ros, "exit")
+    assert proc.wait(timeout=20) == 0
+    last = screen.messages[-1][1]
+    r, g, b = pixel(last, 512, 300)
+    assert b > r  # lavender: the sleep skin
+    screen.close()
+
+
+def test_sigterm_ends_the_node_cleanly(ros, node):
+    proc, state = node
+    proc.send_signal(signal.SIGTERM)
+    assert proc.wait(timeout=20) == 0
+    assert b"Traceback" not in proc.stdout.read()
+
+
+def test_send_checks_first_and_needs_a_listener(ros, node):
+    proc, state = node
+    bad = subprocess.run(
+        [sys.executable, "-m", "baxterface_cli", "send", "hapy"],
+        env=ros,
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    assert bad.returncode == 1 and "did you mean 'happy'" in bad.stderr
+    good = subprocess.run(
+        [sys.executable, "-m", "baxterface_cli", "send", "look", "30", "10", "in", "0.2s"],
+        env=ros,
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    assert good.returncode == 0, good.stderr
+    assert report(state, test=lambda r: r["eye_x"] == 30.0)["eye_y"] == 10.0
+    nobody = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "baxterface_cli",
+            "send",
+            "--topic",
+            "/nobody_listens",
+            "--timeout",
+            "1",
+            "happy",
+        ],
+        env=ros,
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    assert nobody.returncode == 1 and "nothing listens on /nobody_listens" in nobody.stderr
+
+
+def test_queued_scripts_play_after_the_current_one(ros, node):
+    proc, state = node
+    run = lambda *a: subprocess.run([sys.executable, "-m", "baxterface_cli", "send", *a], env=ros, timeout=60)  # noqa: E731
+    assert run("look 40 0 in 2s").returncode == 0
+    assert run("--queue", "skin 0").returncode == 0
+    first = report(state, test=lambda r: r["queued"] == 1)
+    assert first["skin"] != 0
+    assert report(state, test=lambda r: r["skin"] == 0 and r["queued"] == 0, timeout=10)["eye_x"] == 40.0
+
+
+@pytest.mark.parametrize("robot, topic", [("baxter", "/robot/xdisplay"), ("sawyer", "/robot/head_display")])
+def test_stream_sends_frames_in_real_time(ros, robot, topic):
+    from sensor_msgs.msg import Image
+
+    screen = Topic(topic, Image)
+    proc = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "baxterface_cli",
+            "stream",
+            "--robot",
+            robot,
+            "--no-idle",
+            "-e",
+            "look 40 0 in 1s",
+        ],
+        env=ros,
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    assert proc.returncode == 0, proc.stderr
+    assert len(screen.messages) >= 20  # 30 fps for a second, none repeated
+    assert screen.messages[-1][1].encoding == "bgr8"
+    screen.close()
+
+
+def test_master_unreachable_names_ros_master_uri():
+    env = dict(os.environ, ROS_MASTER_URI="http://127.0.0.1:9")
+    proc = subprocess.run(
+        [sys.executable, "-m", "baxterface_cli", "send", "happy"],
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    assert proc.returncode == 1 and "ROS_MASTER_URI=http://127.0.0.1:9" in proc.stderr
+
+
+def test_baxter_messages_have_the_sdks_md5sums():
+    from baxterface_cli.ros.messages import check
+
+    assert check() == {name: True for name in check()}
+
+
+def test_roslaunch_starts_the_face_node(ros, tmp_path):
+    from sensor_msgs.msg import Image
+    from std_msgs.msg import String
+
+    screen = Topic("/robot/xdisplay", Image)
+    state = Topic("/baxter_face/state", String)
+    env = dict(ros, ROS_PACKAGE_PATH=str(ROOT / "ros"), PATH=f"{Path(sys.executable).parent}:{ros['PATH']}")
+    launch = subprocess.Popen(
+        ["roslaunch", "baxter_face", "baxter_face.launch", "idle:=false"],
+        env=env,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+    )
+    try:
+        report(state, timeout=60)
+        screen.wait_for(timeout=30)
+        rostopic_pub(ros, "happy")
+        assert (
+            report(state, test=lambda r: r["emotion"] == "happy" and r["mouth"] in ("teeth", "smile-open"))[
+                "skin"
+            ]
+            == 2
+        )
+    finally:
+        launch.send_signal(signal.SIGINT)
+        launch.wait(timeout=30)
+        screen.close()
+        state.close()
