@@ -73,10 +73,11 @@ pictures: venv
 	$(BIN)/baxterface render scripts_examples/hello.face --out docs/images/hello.gif --size 512x300 --fps 20
 
 # The benchmarks whose figures are in the README.
-bench: venv
+bench: venv venv-ros
 	$(BIN)/python bench/bench_render.py
 	$(BIN)/python bench/bench_gif.py
 	$(BIN)/python bench/bench_playback.py
+	$(VENV_ROS)/bin/python bench/bench_node.py
 
 # Plays in a window where there is a display, else in this terminal.
 play: venv

@@ -1,0 +1,165 @@
+"""The face node on a real ROS master (loopback): latency, frame rate, idle cost.
+
+    .venv-ros/bin/python bench/bench_node.py
+
+Starts its own roscore on a free port, then the node (`baxterface node`) as
+its own process, and measures from a third one (this):
+
+- latency: from a command on display_chatter (`skin_1` / `skin_3`, which
+  change the face at once) to the first changed frame received here; the
+  baseline, measured in this run, is a relay that answers each command with
+  a frame it already holds: ROS's own cost of moving 1.8 MB;
+- frame rate reaching a subscriber during a 30 fps look animation whose
+  every frame differs (the node sends no frame that did not change);
+- an idle face (idle blinks on): frames a second between blinks, and the
+  node's CPU use.
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import socket
+import statistics
+import subprocess
+import sys
+import threading
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+RELAY = """
+import sys, rospy, numpy
+from std_msgs.msg import String
+from sensor_msgs.msg import Image
+rospy.init_node("relay")
+frame = Image(height=600, width=1024, encoding="bgr8", step=3072, data=bytes(1024 * 600 * 3))
+pub = rospy.Publisher("/robot/xdisplay", Image, latch=True, queue_size=1)
+rospy.Subscriber("/display_chatter", String, lambda m: pub.publish(frame))
+rospy.spin()
+"""
+
+
+def free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+class Frames:
+    def __init__(self, rospy, Image) -> None:
+        self.times = []
+        self.event = threading.Event()
+        self.sub = rospy.Subscriber("/robot/xdisplay", Image, self._got, queue_size=10, buff_size=2**24)
+
+    def _got(self, msg) -> None:
+        self.times.append(time.monotonic())
+        self.event.set()
+
+
+def latencies(rospy, String, frames, count=120):
+    pub = rospy.Publisher("/display_chatter", String, queue_size=10)
+    time.sleep(1.0)
+    out = []
+    for i in range(count):
+        frames.event.clear()
+        sent = time.monotonic()
+        pub.publish(String("skin_1" if i % 2 else "skin_3"))
+        if frames.event.wait(2.0):
+            out.append((frames.times[-1] - sent) * 1000)
+        time.sleep(0.15)
+    pub.unregister()
+    return out
+
+
+def cpu_seconds(pid: int) -> float:
+    fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
+def percentile(values, p):
+    ordered = sorted(values)
+    return ordered[min(len(ordered) - 1, int(round(p / 100 * (len(ordered) - 1))))]
+
+
+def main() -> None:
+    port = free_port()
+    env = dict(os.environ, ROS_MASTER_URI=f"http://127.0.0.1:{port}", ROS_IP="127.0.0.1")
+    os.environ.update(ROS_MASTER_URI=env["ROS_MASTER_URI"], ROS_IP="127.0.0.1")
+    core = subprocess.Popen(
+        ["roscore", "-p", str(port)], env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL
+    )
+    import rosgraph
+    import rospy
+    from sensor_msgs.msg import Image
+    from std_msgs.msg import String
+
+    while not rosgraph.is_master_online():
+        time.sleep(0.1)
+    rospy.init_node("bench_face", anonymous=True, disable_signals=True)
+    frames = Frames(rospy, Image)
+    try:
+        relay = subprocess.Popen([sys.executable, "-c", RELAY], env=env)
+        time.sleep(2.0)
+        floor = latencies(rospy, String, frames)
+        relay.send_signal(signal.SIGINT)
+        relay.wait()
+
+        node = subprocess.Popen(
+            [sys.executable, "-m", "baxterface_cli", "node", "_idle:=false"], cwd=str(ROOT), env=env
+        )
+        time.sleep(4.0)
+        ours = latencies(rospy, String, frames)
+
+        chatter = rospy.Publisher("/display_chatter", String, queue_size=10)
+        time.sleep(0.5)
+        chatter.publish(String("look -60 40 in 0s"))
+        time.sleep(0.5)
+        start = len(frames.times)
+        # Eyes a few pixels further every frame, so every frame differs.
+        chatter.publish(String("repeat 3 { look 60 -40 in 1s; look -60 40 in 1s }"))
+        time.sleep(6.0)
+        window = [t for t in frames.times[start:]]
+        look_fps = (len(window) - 1) / (window[-1] - window[0]) if len(window) > 1 else 0.0
+        node.send_signal(signal.SIGTERM)
+        node.wait()
+
+        idle = subprocess.Popen(
+            [sys.executable, "-m", "baxterface_cli", "node", "_idle:=true"], cwd=str(ROOT), env=env
+        )
+        time.sleep(4.0)
+        chatter.publish(String("default"))
+        time.sleep(2.0)
+        begin, cpu0, count0 = time.monotonic(), cpu_seconds(idle.pid), len(frames.times)
+        time.sleep(30.0)
+        spent = time.monotonic() - begin
+        cpu = (cpu_seconds(idle.pid) - cpu0) / spent * 100
+        stamps = frames.times[count0:]
+        # Seconds with no blink under way: frames in them are what idle costs the link.
+        busy = {int(t - begin) for t in stamps}
+        blink_seconds = {s for s in busy if sum(1 for t in stamps if int(t - begin) == s) > 1}
+        quiet = [s for s in range(int(spent)) if s not in blink_seconds]
+        quiet_rate = sum(1 for t in stamps if int(t - begin) in quiet) / max(1, len(quiet))
+        idle.send_signal(signal.SIGTERM)
+        idle.wait()
+    finally:
+        rospy.signal_shutdown("bench done")
+        core.send_signal(signal.SIGINT)
+        core.wait()
+
+    print("display_chatter -> first changed frame at a subscriber (ms), 120 commands")
+    for name, values in (("relay (ROS's floor)", floor), ("baxterface node", ours)):
+        print(
+            f"  {name:<20} median {statistics.median(values):6.1f}  p99 {percentile(values, 99):6.1f}  "
+            f"({len(values)} answered)"
+        )
+    print(f"  node / floor: median {statistics.median(ours) / statistics.median(floor):.1f}x")
+    print(f"30 fps look animation reaching a subscriber: {look_fps:.1f} frames/s")
+    print(
+        f"idle face over {spent:.0f} s: {len(stamps)} frames, {quiet_rate:.2f} frames/s between blinks, "
+        f"node CPU {cpu:.1f} % of a core"
+    )
+
+
+if __name__ == "__main__":
+    main()
