@@ -121,3 +121,17 @@ def test_no_arguments_shows_help_not_a_traceback():
     run = baxterface()
     assert "Usage: baxterface" in run.out + run.err
     assert "Traceback" not in run.err
+
+
+@pytest.mark.parametrize("command", [["node"], ["send", "happy"], ["stream", "-e", "happy"]])
+def test_without_ros_the_ros_commands_say_how_to_get_it(command):
+    try:
+        import rospy  # noqa: F401
+
+        pytest.skip("this Python has ROS; tests/test_ros.py covers it")
+    except ImportError:
+        pass
+    run = baxterface(*command)
+    assert run.code == 1
+    assert "ROS 1 is not installed" in run.err and "apt-get install" in run.err
+    assert "Traceback" not in run.err

@@ -424,3 +424,21 @@ def test_roslaunch_starts_the_face_node(ros, tmp_path):
         launch.wait(timeout=30)
         screen.close()
         state.close()
+
+
+def test_remapping_arguments_move_the_command_topic(ros):
+    from std_msgs.msg import String
+
+    state = Topic("/baxter_face/state", String)
+    proc = start_node(ros, "display_chatter:=/face/commands", "_fps:=15")
+    try:
+        state.wait_for(timeout=30)
+        rostopic_pub(ros, "sad", topic="/face/commands")
+        assert report(state, test=lambda r: r["emotion"] == "sad" and r["skin"] == 1)["mouth"] in (
+            "bored",
+            "sad",
+        )
+    finally:
+        proc.send_signal(signal.SIGTERM)
+        proc.wait(timeout=20)
+        state.close()
