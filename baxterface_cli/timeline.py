@@ -340,7 +340,12 @@ class _Compiler:
         return t
 
     def do_follow(self, s: n.Follow, t: float) -> float:
-        self.later(t, lambda at: self.actions.append(Action(at, "follow", (s.target, s.dynamic))))
+        def follow(at: float) -> None:
+            self.actions.append(Action(at, "follow", (s.target, s.dynamic)))
+            if s.target is None:  # stopping recentres the eyes, as the original did
+                self.eyes.move(at, TIMING.look, (0.0, 0.0))
+
+        self.later(t, follow)
         return t
 
     def do_exit(self, s: n.Exit, t: float) -> float:

@@ -442,3 +442,78 @@ def test_remapping_arguments_move_the_command_topic(ros):
         proc.send_signal(signal.SIGTERM)
         proc.wait(timeout=20)
         state.close()
+
+
+def sonar_cloud(ids, distances, names=("SensorId", "Distance")):
+    from geometry_msgs.msg import Point32
+    from sensor_msgs.msg import ChannelFloat32, PointCloud
+
+    return PointCloud(
+        points=[Point32() for _ in ids],
+        channels=[
+            ChannelFloat32(name=names[0], values=list(ids)),
+            ChannelFloat32(name=names[1], values=list(distances)),
+        ],
+    )
+
+
+def test_sonar_readings_move_the_eyes_toward_the_person(ros, node):
+    import rospy
+    from sensor_msgs.msg import PointCloud
+
+    proc, state = node
+    sonar = rospy.Publisher("/robot/sonar/head_sonar/state", PointCloud, queue_size=10)
+    rostopic_pub(ros, "human_follow_on")
+    report(state, test=lambda r: r["following"] == "human")
+    # Malformed clouds first: none of them may stop the node or move the eyes.
+    for bad in [
+        sonar_cloud([9, 10], [1.0, 1.0], names=("Id", "Range")),
+        sonar_cloud([9, 10], [1.0]),
+        sonar_cloud([float("nan")], [1.0]),
+        sonar_cloud([9], [float("inf")]),
+        sonar_cloud([42], [1.0]),
+        sonar_cloud([], []),
+    ]:
+        sonar.publish(bad)
+    deadline = time.monotonic() + 15
+    while True:  # a person on the robot's left (sensors 9 and 10): the eyes go to the viewer's right
+        sonar.publish(sonar_cloud([9, 10], [1.0, 1.1]))
+        latest = json.loads(state.messages[-1][1].data)
+        if latest["eye_x"] > 60:
+            break
+        assert time.monotonic() < deadline, latest
+        time.sleep(0.05)
+    assert proc.poll() is None
+    rostopic_pub(ros, "human_follow_off")
+    assert report(state, test=lambda r: r["following"] is None and abs(r["eye_x"]) < 1)["eye_y"] == 0
+    sonar.unregister()
+
+
+def test_hand_poses_move_the_eyes_at_the_frame_rate(ros, node):
+    import rospy
+    from geometry_msgs.msg import Point, Pose, Quaternion
+
+    from baxterface_cli.ros.messages import message_class
+
+    EndpointState = message_class("EndpointState")
+    proc, state = node
+    hand = rospy.Publisher("/robot/limb/left/endpoint_state", EndpointState, queue_size=1)
+    rostopic_pub(ros, "left_arm_follow_on")
+    report(state, test=lambda r: r["following"] == "left arm")
+    deadline = time.monotonic() + 15
+    seen = len(state.messages)
+    while True:  # the left hand out to the robot's left and up: eyes right and up on screen
+        hand.publish(
+            EndpointState(pose=Pose(position=Point(0.5, 0.5, 1.1), orientation=Quaternion(0, 0, 0, 1)))
+        )
+        latest = json.loads(state.messages[-1][1].data)
+        if latest["eye_x"] > 40 and latest["eye_y"] < -30:
+            break
+        assert time.monotonic() < deadline, latest
+        time.sleep(0.01)  # 100 Hz, as the robot publishes
+    # The node reported at its own pace, not once per pose.
+    assert len(state.messages) - seen < 100
+    hand.publish(EndpointState(pose=Pose(position=Point(float("nan"), 0, 0))))
+    time.sleep(0.3)
+    assert proc.poll() is None
+    hand.unregister()

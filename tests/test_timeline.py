@@ -221,3 +221,9 @@ def test_the_old_nodes_commands_cut_and_scripts_crossfade_by_default(text, legac
     fades = {c.fade for c in compile_script(script).parts}
     assert fades <= ({0.0} if legacy else {0.15})
     assert {c.fade for c in compile_script(script, crossfade=0.3).parts} <= {0.3}
+
+
+def test_follow_off_recentres_the_eyes():
+    tl = timeline("look 40 20 in 0s; follow human; follow off")
+    assert tl.sample(0.0).eye_x == pytest.approx(40)
+    assert tl.sample(0.5).eye_x == pytest.approx(0) and tl.sample(0.5).eye_y == pytest.approx(0)

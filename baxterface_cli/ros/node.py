@@ -18,18 +18,24 @@ import time
 from typing import Any, List, Optional, Tuple
 
 from ..diagnostics import ScriptError
+from ..following import ArmFollower, HumanFollower
+from ..geometry import clamp_to_ellipse
 from ..live import LiveFace, sleep_face
 from ..renderer import Renderer, pose
 from ..state import FaceState
 from ..tables import BROWS, MOUTHS, SKINS
 from ..theme import parse_size, resolve
-from ..timeline import Action
+from ..timeline import EYE_SPAN_RAD, Action, to_pixels, to_radians
 from .messages import message_class
 
 PAN_TOLERANCE = 0.1396263401  # baxter_interface's: 8 degrees
 HEAD_TIMEOUT = 10.0  # seconds to keep asking the head, as baxter_interface does
 ENABLE_TIMEOUT = 5.0
 STATE_EVERY = 0.1  # seconds between ~state messages while the face moves
+FOLLOW_SMOOTHING = 0.25  # of the way to a followed target, each frame
+FOLLOW_RELEASE = 0.5  # seconds the eyes take to hand back from following to the script
+HEAD_FOLLOW_STEP = 0.1  # radians a followed target must move before the head is asked again
+WARN_EVERY = 5.0  # seconds between repeats of one warning about bad sensor data
 DISPLAY_TOPICS = {"baxter": "/robot/xdisplay", "sawyer": "/robot/head_display"}
 
 
@@ -81,11 +87,30 @@ class FaceNode:
         self.last_frame_at = -math.inf
         self.last_state_text = ""
         self.last_state_at = -math.inf
+        # Following: sensor readings handed over by callbacks, and where the eyes are.
+        self.human = HumanFollower()
+        self.arm = ArmFollower()
+        self.sonar: queue.Queue[Tuple[list, list]] = queue.Queue(maxsize=100)
+        self.hands = {"left": None, "right": None}
+        self.follow_eye: Optional[Tuple[float, float]] = None
+        self.release: Optional[Tuple[float, Tuple[float, float]]] = None
+        self.followed: Tuple[Optional[str], bool] = (None, False)
 
         rospy.Subscriber("display_chatter", String, self._heard, callback_args=False, queue_size=100)
         rospy.Subscriber("~queue", String, self._heard, callback_args=True, queue_size=100)
         rospy.Subscriber("/robot/head/head_state", message_class("HeadState"), self._head_state, queue_size=1)
         rospy.Subscriber("/robot/state", message_class("AssemblyState"), self._robot_state, queue_size=1)
+        from sensor_msgs.msg import PointCloud
+
+        rospy.Subscriber("/robot/sonar/head_sonar/state", PointCloud, self._sonar_cloud, queue_size=5)
+        for side in self.hands:
+            rospy.Subscriber(
+                f"/robot/limb/{side}/endpoint_state",
+                message_class("EndpointState"),
+                self._hand,
+                side,
+                queue_size=1,
+            )
         if rospy.get_param("~selftest", False):
             self.live.command(selftest_script(), time.monotonic(), filename="selftest")
 
@@ -100,6 +125,32 @@ class FaceNode:
 
     def _robot_state(self, msg: Any) -> None:
         self.robot_enabled = bool(msg.enabled)
+
+    def _sonar_cloud(self, msg: Any) -> None:
+        """Check a sonar cloud and hand its (ids, distances) over; skip it, warning, if malformed."""
+        channels = {c.name: list(c.values) for c in msg.channels}
+        ids, distances = channels.get("SensorId"), channels.get("Distance")
+        problem = None
+        if ids is None or distances is None:
+            problem = f"no SensorId and Distance channels (it has {sorted(channels)})"
+        elif len(ids) != len(distances):
+            problem = f"{len(ids)} sensor ids but {len(distances)} distances"
+        elif not all(math.isfinite(v) for v in ids + distances):
+            problem = "a value that is not a finite number"
+        elif not all(float(v).is_integer() and 0 <= v <= 11 for v in ids):
+            problem = "a sensor id outside 0-11"
+        if problem:
+            self.rospy.logwarn_throttle(WARN_EVERY, f"skipped a head sonar cloud: {problem}")
+            return
+        if not self.sonar.full():
+            self.sonar.put((ids, distances))
+
+    def _hand(self, msg: Any, side: str) -> None:
+        p = msg.pose.position
+        if all(math.isfinite(v) for v in (p.x, p.y, p.z)):
+            self.hands[side] = (p.x, p.y, p.z)  # the latest only: read at the frame rate, not 100 Hz
+        else:
+            self.rospy.logwarn_throttle(WARN_EVERY, f"skipped a {side} hand pose that is not finite")
 
     # -- the loop
 
@@ -116,7 +167,7 @@ class FaceNode:
             self._take_commands(now)
             for action in self.live.due(now):
                 self._act(action, now)
-            state = self.live.state(now)
+            state = self._follow(self.live.state(now), now)
             self._keep_asking(now)
             if self.live.exited:
                 self._publish_frame(state, now, force=True)
@@ -213,6 +264,65 @@ class FaceNode:
         elif action.kind == "follow":
             target, dynamic = action.value
             self.rospy.loginfo("following: %s%s", target or "nothing", " (dynamic)" if dynamic else "")
+
+    # -- following
+
+    def _follow(self, state: FaceState, now: float) -> FaceState:
+        """The face with its eyes on what is followed, moving there smoothly."""
+        target, dynamic = self.live.following
+        if (target, dynamic) != self.followed:
+            if target is None and self.follow_eye is not None:
+                self.release = (now, self.follow_eye)  # hand the eyes back to the script smoothly
+            if target == "human":
+                self.human = HumanFollower()
+            self.follow_eye, self.followed = None, (target, dynamic)
+        if target is None:
+            if self.release is not None:
+                since, (x, y) = self.release
+                u = (now - since) / FOLLOW_RELEASE
+                if u < 1.0:
+                    return state.replace(eye_x=x + (state.eye_x - x) * u, eye_y=y + (state.eye_y - y) * u)
+                self.release = None
+            return state
+        goal = self._follow_goal(target, dynamic, now)
+        here = self.follow_eye or (state.eye_x, state.eye_y)
+        if goal is not None:
+            here = (
+                here[0] + (goal[0] - here[0]) * FOLLOW_SMOOTHING,
+                here[1] + (goal[1] - here[1]) * FOLLOW_SMOOTHING,
+            )
+        self.follow_eye = here
+        return state.replace(eye_x=here[0], eye_y=here[1])
+
+    def _follow_goal(self, target: str, dynamic: bool, now: float) -> Optional[Tuple[float, float]]:
+        """Where the eyes should go for what is followed, turning the head if dynamic."""
+        head = self.head_pan if self.head_pan is not None else 0.0
+        if target == "human":
+            eye_x = None
+            while not self.sonar.empty():
+                ids, distances = self.sonar.get_nowait()
+                seen = self.human.update(ids, distances)
+                eye_x = seen if seen is not None else eye_x
+            if eye_x is None:
+                return None if self.follow_eye is None else self.follow_eye
+            want, eye_y = head + to_radians(eye_x), 0.0  # the sonar turns with the head
+        else:
+            hand = self.hands[target.split()[0]]
+            if hand is None:
+                return None
+            eye_x, eye_y = self.arm.eye_target(*hand)
+            want = to_radians(eye_x)  # the hand is in the base frame
+        if not dynamic:
+            return clamp_to_ellipse(to_pixels(want - head) if target == "human" else eye_x, eye_y)
+        # The dynamic-look rule: beyond the eyes' own reach, the head turns.
+        if abs(want - head) > EYE_SPAN_RAD and self.robot_enabled is not False:
+            pan = max(-1.5, min(1.5, want))
+            current = self.head_goal[0] if self.head_goal else head
+            if abs(pan - current) > HEAD_FOLLOW_STEP:
+                self.head_goal = (pan, 1.0, now + HEAD_TIMEOUT)
+                self._send_pan()
+            return clamp_to_ellipse(to_pixels(want - pan), eye_y)
+        return clamp_to_ellipse(to_pixels(want - head), eye_y)
 
     def _send_pan(self) -> None:
         target, speed, _ = self.head_goal  # type: ignore[misc]
