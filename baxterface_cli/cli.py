@@ -326,6 +326,30 @@ def node(ctx: typer.Context) -> None:
 
 
 @app.command(context_settings=ROS_ARGS)
+def buttons(
+    ctx: typer.Context,
+    mapping: Optional[str] = typer.Option(None, "--mapping", metavar="FILE", help="Your own mapping (JSON)."),
+) -> None:
+    """Turn Baxter's navigator buttons into face commands on display_chatter.
+
+    By default: torso OK toggles enable/disable; the left arm's button above
+    the wheel wakes the face, below puts it to sleep; the right arm's buttons
+    toggle dynamic left/right arm following; the left wheel scrolls through the
+    emotions while awake. The mapping is a small JSON file (see docs/ros.md).
+    """
+    from .buttons import ButtonMap, MappingError
+
+    try:
+        button_map = ButtonMap.load(mapping)
+    except MappingError as e:
+        raise fail(f"baxterface buttons: {e}") from None
+    _ros_ready("buttons")
+    from .ros.buttons import run_buttons
+
+    raise typer.Exit(run_buttons(button_map, ["baxterface_buttons", *ctx.args]))
+
+
+@app.command(context_settings=ROS_ARGS)
 def send(
     ctx: typer.Context,
     words: Optional[List[str]] = typer.Argument(

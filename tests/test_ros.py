@@ -517,3 +517,32 @@ def test_hand_poses_move_the_eyes_at_the_frame_rate(ros, node):
     time.sleep(0.3)
     assert proc.poll() is None
     hand.unregister()
+
+
+def test_a_button_press_sends_exactly_one_command(ros):
+    import rospy
+    from std_msgs.msg import String
+
+    from baxterface_cli.ros.messages import message_class
+
+    NavigatorState = message_class("NavigatorState")
+    chatter = Topic("/display_chatter", String)
+    proc = subprocess.Popen([sys.executable, "-m", "baxterface_cli", "buttons"], cwd=str(ROOT), env=ros)
+    left = rospy.Publisher("/robot/navigators/left_navigator/state", NavigatorState, queue_size=10)
+    try:
+        deadline = time.monotonic() + 30
+        while left.get_num_connections() == 0:
+            assert time.monotonic() < deadline and proc.poll() is None
+            time.sleep(0.05)
+        names = ["0", "1", "2"]
+        for held in [False, True, True, True, True, False]:  # pressed, held a while, released
+            left.publish(NavigatorState(button_names=names, buttons=[False, held, False], wheel=10))
+            time.sleep(0.1)
+        assert chatter.wait_for().data == "wake_up"
+        time.sleep(0.5)
+        assert [m.data for _, m in chatter.messages] == ["wake_up"]
+    finally:
+        proc.send_signal(signal.SIGINT)
+        proc.wait(timeout=20)
+        left.unregister()
+        chatter.close()

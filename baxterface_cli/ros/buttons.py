@@ -1,0 +1,39 @@
+"""`baxterface buttons`: the navigator controller, publishing commands to display_chatter."""
+
+from __future__ import annotations
+
+import json
+from typing import Any, List
+
+from ..buttons import NAVIGATORS, ButtonMap, Buttons
+from .messages import message_class
+
+
+def run_buttons(mapping: ButtonMap, argv: List[str]) -> int:
+    import rospy
+    from std_msgs.msg import String
+
+    rospy.init_node("baxter_face_buttons", argv=argv)
+    buttons = Buttons(mapping)
+    chatter = rospy.Publisher("display_chatter", String, queue_size=10)
+
+    def pressed(msg: Any, navigator: str) -> None:
+        for command in buttons.update(navigator, list(msg.buttons), msg.wheel):
+            rospy.loginfo("%s navigator: %s", navigator, command)
+            chatter.publish(String(command))
+
+    def face_state(msg: Any) -> None:
+        try:
+            emotion = json.loads(msg.data).get("emotion")
+        except (ValueError, AttributeError):
+            return
+        if emotion:
+            buttons.heard(emotion)
+
+    navigator_state = message_class("NavigatorState")
+    for navigator in NAVIGATORS:
+        topic = f"/robot/navigators/{navigator}_navigator/state"
+        rospy.Subscriber(topic, navigator_state, pressed, navigator, queue_size=10)
+    rospy.Subscriber("/baxter_face/state", String, face_state, queue_size=1)
+    rospy.spin()
+    return 0
