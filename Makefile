@@ -78,6 +78,7 @@ bench: venv venv-ros
 	$(BIN)/python bench/bench_gif.py
 	$(BIN)/python bench/bench_playback.py
 	$(VENV_ROS)/bin/python bench/bench_node.py
+	$(BIN)/python bench/bench_follow.py
 
 # Plays in a window where there is a display, else in this terminal.
 play: venv
