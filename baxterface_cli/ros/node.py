@@ -128,6 +128,8 @@ class FaceNode:
 
     def _sonar_cloud(self, msg: Any) -> None:
         """Check a sonar cloud and hand its (ids, distances) over; skip it, warning, if malformed."""
+        if self.followed[0] != "human":  # readings from before following began would be stale
+            return
         channels = {c.name: list(c.values) for c in msg.channels}
         ids, distances = channels.get("SensorId"), channels.get("Distance")
         problem = None
