@@ -19,16 +19,9 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
 
 from baxterface_cli.following import HumanFollower  # noqa: E402
-from traces import OriginalFollower, jitter, lag, rms_error, run, still, trace, walk  # noqa: E402
+from traces import OriginalFollower, jitter, lag, rms_error, run, standing, walks  # noqa: E402
 
-TRACES = {
-    "slow walk": trace(walk(0.5), 14, seed=1),
-    "walk (twice as fast)": trace(walk(1.0), 8, seed=2),
-    "fast walk (four times)": trace(walk(2.0), 5, seed=3),
-    "walk, 30 % dropouts": trace(walk(1.0), 8, seed=4, dropouts=0.3),
-    "walk past a further object": trace(walk(1.0), 8, seed=5, second_object=True),
-    "standing still": trace(still(0.5), 20, seed=6),
-}
+TRACES = {**walks(), "standing still": standing()}
 
 
 def main() -> None:

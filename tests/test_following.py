@@ -7,16 +7,9 @@ import math
 import pytest
 
 from baxterface_cli.following import ArmFollower, HumanFollower
-from traces import OriginalFollower, jitter, lag, rms_error, run, still, trace, walk
+from traces import OriginalFollower, jitter, lag, rms_error, run, standing, walks
 
-WALKS = {
-    "slow walk": trace(walk(0.5), 14, seed=1),
-    "walk": trace(walk(1.0), 8, seed=2),
-    "fast walk": trace(walk(2.0), 5, seed=3),
-    "walk with dropouts": trace(walk(1.0), 8, seed=4, dropouts=0.3),
-    "walk past a further object": trace(walk(1.0), 8, seed=5, second_object=True),
-    "walk back": trace(walk(-1.0, start=3.0), 8, seed=7),
-}
+WALKS = walks()
 
 
 @pytest.mark.parametrize("name", list(WALKS))
@@ -29,14 +22,14 @@ def test_a_walking_person_is_followed_closer_and_sooner_than_by_the_original(nam
 
 @pytest.mark.parametrize("seed", [6, 8, 9])
 def test_a_still_person_does_not_make_the_eyes_tremble_more_than_the_original(seed):
-    readings = trace(still(0.5), 20, seed=seed)
+    readings = standing(seed)
     ours, original = run(HumanFollower(), readings), run(OriginalFollower(), readings)
     assert jitter(ours) <= jitter(original), (jitter(ours), jitter(original))
     assert rms_error(ours, after=5.0) <= rms_error(original, after=5.0) + 1.0
 
 
 def test_with_no_process_noise_it_stalls_like_the_original():
-    readings = WALKS["walk"]
+    readings = WALKS["walk (twice as fast)"]
     stalled = run(HumanFollower(process_noise=0.0, deadband=0.0), readings)
     assert rms_error(stalled) > 2 * rms_error(run(HumanFollower(), readings))
 

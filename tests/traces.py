@@ -118,3 +118,20 @@ def jitter(results, after: float = 3.0) -> float:
     """Mean movement of the eyes from one reading to the next, in pixels."""
     values = [s for t, s, _ in results if t >= after and s is not None]
     return sum(abs(b - a) for a, b in zip(values, values[1:])) / max(1, len(values) - 1)
+
+
+def walks() -> dict:
+    """The walking traces the tests check and bench/bench_follow.py reports, by name."""
+    return {
+        "slow walk": trace(walk(0.5), 14, seed=1),
+        "walk (twice as fast)": trace(walk(1.0), 8, seed=2),
+        "fast walk (four times)": trace(walk(2.0), 5, seed=3),
+        "walk, 30 % dropouts": trace(walk(1.0), 8, seed=4, dropouts=0.3),
+        "walk past a further object": trace(walk(1.0), 8, seed=5, second_object=True),
+        "walk back": trace(walk(-1.0, start=3.0), 8, seed=7),
+    }
+
+
+def standing(seed: int = 6) -> List[Reading]:
+    """A person standing still, slightly to the robot's left."""
+    return trace(still(0.5), 20, seed=seed)
