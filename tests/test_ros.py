@@ -109,6 +109,12 @@ def node(ros):
     if proc.poll() is None:
         proc.send_signal(signal.SIGTERM)
         proc.wait(timeout=20)
+    forget_parameters(ros)
+
+
+def forget_parameters(ros):
+    """Private parameters outlive their node on the parameter server: leave none for the next."""
+    subprocess.run(["rosparam", "delete", "/baxter_face"], env=ros, capture_output=True, timeout=30)
 
 
 def report(state_topic, after=0, test=lambda r: True, timeout=15.0):
@@ -442,6 +448,7 @@ def test_remapping_arguments_move_the_command_topic(ros):
         proc.send_signal(signal.SIGTERM)
         proc.wait(timeout=20)
         state.close()
+        forget_parameters(ros)
 
 
 def sonar_cloud(ids, distances, names=("SensorId", "Distance")):
@@ -546,3 +553,22 @@ def test_a_button_press_sends_exactly_one_command(ros):
         proc.wait(timeout=20)
         left.unregister()
         chatter.close()
+
+
+@pytest.mark.parametrize(
+    "arg, message", [("_fps:=0", "~fps must be from 1 to 120"), ("_size:=huge", "size must look like")]
+)
+def test_bad_parameters_stop_the_node_with_one_line(ros, arg, message):
+    try:
+        proc = subprocess.run(
+            [sys.executable, "-m", "baxterface_cli", "node", arg],
+            cwd=str(ROOT),
+            env=ros,
+            capture_output=True,
+            text=True,
+            timeout=60,
+        )
+    finally:
+        forget_parameters(ros)
+    assert proc.returncode == 1
+    assert message in proc.stderr and "Traceback" not in proc.stderr

@@ -59,6 +59,8 @@ class FaceNode:
         self.rospy = rospy
         rospy.init_node("baxter_face", argv=argv, disable_signals=True)
         self.fps = float(rospy.get_param("~fps", 30.0))
+        if not 1.0 <= self.fps <= 120.0:
+            raise ValueError(f"~fps must be from 1 to 120, not {self.fps:g}")
         size = parse_size(str(rospy.get_param("~size", "1024x600")))
         theme = rospy.get_param("~theme", "") or None
         self.renderer = Renderer(resolve(theme).layers(size))
