@@ -106,6 +106,9 @@ THEME_OPT = typer.Option(
     None, "--theme", metavar="DIR", help="A theme folder (see 'baxterface theme export')."
 )
 FPS_HELP = "Frames per second."
+# Real-time commands: a new seed each run, idle life on.
+RANDOM_SEED_OPT = typer.Option(None, "--seed", help=SEED_HELP + " Default: random.")
+IDLE_ON_OPT = typer.Option(True, "--idle/--no-idle", help="Idle blinks and eye darts.")
 CROSSFADE_OPT = typer.Option(
     None,
     "--crossfade",
@@ -240,9 +243,9 @@ def play(
     ),
     fps: float = typer.Option(30.0, "--fps", min=1.0, max=120.0, help=FPS_HELP),
     size: Optional[str] = SIZE_OPT,
-    seed: Optional[int] = typer.Option(None, "--seed", help=SEED_HELP + " Default: random."),
+    seed: Optional[int] = RANDOM_SEED_OPT,
     theme: Optional[str] = THEME_OPT,
-    idle: bool = typer.Option(True, "--idle/--no-idle", help="Idle blinks and eye darts."),
+    idle: bool = IDLE_ON_OPT,
     crossfade: Optional[float] = CROSSFADE_OPT,
 ) -> None:
     """Play a script in real time: in a window, or in this terminal.
@@ -401,9 +404,9 @@ def stream(
     ),
     fps: float = typer.Option(30.0, "--fps", min=1.0, max=60.0, help=FPS_HELP),
     size: Optional[str] = SIZE_OPT,
-    seed: Optional[int] = typer.Option(None, "--seed", help=SEED_HELP + " Default: random."),
+    seed: Optional[int] = RANDOM_SEED_OPT,
     theme: Optional[str] = THEME_OPT,
-    idle: bool = typer.Option(True, "--idle/--no-idle", help="Idle blinks and eye darts."),
+    idle: bool = IDLE_ON_OPT,
     crossfade: Optional[float] = CROSSFADE_OPT,
 ) -> None:
     """Stream a script to the robot's screen in real time, no face node needed.

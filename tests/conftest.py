@@ -20,10 +20,12 @@ class Run:
         self.err = proc.stderr.decode("utf-8", "replace")
 
 
-def baxterface(*args: str, stdin: Union[bytes, str, None] = None, cwd: Optional[Path] = None) -> Run:
+def baxterface(
+    *args: str, stdin: Union[bytes, str, None] = None, cwd: Optional[Path] = None, env: Optional[dict] = None
+) -> Run:
     """Run `python -m baxterface_cli ARGS` in a subprocess and collect its output."""
     data = stdin.encode("utf-8") if isinstance(stdin, str) else stdin
-    env = dict(os.environ, COLUMNS="100", NO_COLOR="1", TERM="dumb")
+    env = dict(env or os.environ, COLUMNS="100", NO_COLOR="1", TERM="dumb")
     env.pop("BAXTERFACE_DEBUG", None)
     proc = subprocess.run(
         [sys.executable, "-m", "baxterface_cli", *args],

@@ -20,7 +20,7 @@ from pathlib import Path
 
 import pytest
 
-from conftest import ROOT
+from conftest import ROOT, baxterface
 
 pytestmark = pytest.mark.ros
 
@@ -309,48 +309,20 @@ def test_sigterm_ends_the_node_cleanly(ros, node):
 
 def test_send_checks_first_and_needs_a_listener(ros, node):
     proc, state = node
-    bad = subprocess.run(
-        [sys.executable, "-m", "baxterface_cli", "send", "hapy"],
-        env=ros,
-        capture_output=True,
-        text=True,
-        timeout=60,
-    )
-    assert bad.returncode == 1 and "did you mean 'happy'" in bad.stderr
-    good = subprocess.run(
-        [sys.executable, "-m", "baxterface_cli", "send", "look", "30", "10", "in", "0.2s"],
-        env=ros,
-        capture_output=True,
-        text=True,
-        timeout=60,
-    )
-    assert good.returncode == 0, good.stderr
+    bad = baxterface("send", "hapy", env=ros)
+    assert bad.code == 1 and "did you mean 'happy'" in bad.err
+    good = baxterface("send", "look", "30", "10", "in", "0.2s", env=ros)
+    assert good.code == 0, good.err
     assert report(state, test=lambda r: r["eye_x"] == 30.0)["eye_y"] == 10.0
-    nobody = subprocess.run(
-        [
-            sys.executable,
-            "-m",
-            "baxterface_cli",
-            "send",
-            "--topic",
-            "/nobody_listens",
-            "--timeout",
-            "1",
-            "happy",
-        ],
-        env=ros,
-        capture_output=True,
-        text=True,
-        timeout=60,
-    )
-    assert nobody.returncode == 1 and "nothing listens on /nobody_listens" in nobody.stderr
+    nobody = baxterface("send", "--topic", "/nobody_listens", "--timeout", "1", "happy", env=ros)
+    assert nobody.code == 1 and "nothing listens on /nobody_listens" in nobody.err
 
 
 def test_queued_scripts_play_after_the_current_one(ros, node):
     proc, state = node
-    run = lambda *a: subprocess.run([sys.executable, "-m", "baxterface_cli", "send", *a], env=ros, timeout=60)  # noqa: E731
-    assert run("look 40 0 in 2s").returncode == 0
-    assert run("--queue", "skin 0").returncode == 0
+    run = lambda *a: baxterface("send", *a, env=ros)  # noqa: E731
+    assert run("look 40 0 in 2s").code == 0
+    assert run("--queue", "skin 0").code == 0
     first = report(state, test=lambda r: r["queued"] == 1)
     assert first["skin"] != 0
     assert report(state, test=lambda r: r["skin"] == 0 and r["queued"] == 0, timeout=10)["eye_x"] == 40.0
@@ -361,24 +333,8 @@ def test_stream_sends_frames_in_real_time(ros, robot, topic):
     from sensor_msgs.msg import Image
 
     screen = Topic(topic, Image)
-    proc = subprocess.run(
-        [
-            sys.executable,
-            "-m",
-            "baxterface_cli",
-            "stream",
-            "--robot",
-            robot,
-            "--no-idle",
-            "-e",
-            "look 40 0 in 1s",
-        ],
-        env=ros,
-        capture_output=True,
-        text=True,
-        timeout=60,
-    )
-    assert proc.returncode == 0, proc.stderr
+    proc = baxterface("stream", "--robot", robot, "--no-idle", "-e", "look 40 0 in 1s", env=ros)
+    assert proc.code == 0, proc.err
     assert len(screen.messages) >= 20  # 30 fps for a second, none repeated
     assert screen.messages[-1][1].encoding == "bgr8"
     screen.close()
@@ -386,14 +342,8 @@ def test_stream_sends_frames_in_real_time(ros, robot, topic):
 
 def test_master_unreachable_names_ros_master_uri():
     env = dict(os.environ, ROS_MASTER_URI="http://127.0.0.1:9")
-    proc = subprocess.run(
-        [sys.executable, "-m", "baxterface_cli", "send", "happy"],
-        env=env,
-        capture_output=True,
-        text=True,
-        timeout=60,
-    )
-    assert proc.returncode == 1 and "ROS_MASTER_URI=http://127.0.0.1:9" in proc.stderr
+    proc = baxterface("send", "happy", env=env)
+    assert proc.code == 1 and "ROS_MASTER_URI=http://127.0.0.1:9" in proc.err
 
 
 def test_baxter_messages_have_the_sdks_md5sums():
@@ -560,15 +510,8 @@ def test_a_button_press_sends_exactly_one_command(ros):
 )
 def test_bad_parameters_stop_the_node_with_one_line(ros, arg, message):
     try:
-        proc = subprocess.run(
-            [sys.executable, "-m", "baxterface_cli", "node", arg],
-            cwd=str(ROOT),
-            env=ros,
-            capture_output=True,
-            text=True,
-            timeout=60,
-        )
+        proc = baxterface("node", arg, env=ros)
     finally:
         forget_parameters(ros)
-    assert proc.returncode == 1
-    assert message in proc.stderr and "Traceback" not in proc.stderr
+    assert proc.code == 1
+    assert message in proc.err and "Traceback" not in proc.err
