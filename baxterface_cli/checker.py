@@ -50,11 +50,8 @@ def _definitions(body: Sequence[Any], out: List[Diagnostic]) -> Dict[str, n.Defi
             _error(out, statement, f"'{name}' is a built-in command; choose another name")
         else:
             found[name] = statement
-        for inner in walk(statement.body):
-            if isinstance(inner, n.Define):
-                _error(out, inner, "'define' is only allowed at the top level of a script")
     for statement in body:
-        if isinstance(statement, (n.Repeat, n.Together)):
+        if isinstance(statement, n.BLOCKS):
             for inner in walk(statement.body):
                 if isinstance(inner, n.Define):
                     _error(out, inner, "'define' is only allowed at the top level of a script")

@@ -13,7 +13,7 @@ import typer
 from . import __version__
 from .diagnostics import ScriptError
 from .nodes import Script, to_json
-from .parser import decode, parse, read_bounded
+from .parser import parse, parse_file
 from .theme import Theme, ThemeError, parse_size
 
 DEFAULT_SEED = 0  # render and explain are reproducible unless told otherwise
@@ -48,12 +48,8 @@ def _root(
 def load_script(path: str) -> Script:
     """Read and parse FILE, or standard input for '-'."""
     if path == "-":
-        name = "<stdin>"
-        data = read_bounded(sys.stdin.buffer, name)
-    else:
-        name = path
-        data = read_bounded(path, name)
-    return parse(decode(data, name), name)
+        return parse_file(sys.stdin.buffer, "<stdin>")
+    return parse_file(path)
 
 
 def fail(message: str, code: int = 1) -> typer.Exit:

@@ -18,10 +18,10 @@ import numpy as np
 from PIL import Image
 
 from .diagnostics import did_you_mean
-from .geometry import clamp_to_ellipse
+from .geometry import clamp_pan, clamp_to_ellipse
 from .renderer import Renderer
 from .state import FaceState
-from .tables import BROWS, EMOTIONS, HEAD_PAN_LIMIT, MOUTHS, SKINS
+from .tables import BROWS, EMOTIONS, MOUTHS, SKINS
 from .theme import MAX_SIDE, Theme, resolve
 
 
@@ -90,7 +90,7 @@ class Face:
     def set_head_pan(self, radians: float) -> None:
         """Record the head pan, clamped to +-1.5 rad (the robot turns; the screen does not show it)."""
         pan = _finite(radians, "head pan")
-        self.state = self.state.replace(head_pan=max(-HEAD_PAN_LIMIT, min(HEAD_PAN_LIMIT, pan)))
+        self.state = self.state.replace(head_pan=clamp_pan(pan))
 
     # -- parts
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 from typing import Tuple
 
-from .tables import EYE_RADIUS_X, EYE_RADIUS_Y
+from .tables import EYE_RADIUS_X, EYE_RADIUS_Y, HEAD_PAN_LIMIT
 
 
 def clamp_to_ellipse(
@@ -24,3 +24,8 @@ def clamp_to_ellipse(
 
 def inside_ellipse(x: float, y: float, rx: float = EYE_RADIUS_X, ry: float = EYE_RADIUS_Y) -> bool:
     return math.hypot(x / rx, y / ry) <= 1.0
+
+
+def clamp_pan(radians: float) -> float:
+    """A head pan within the +-1.5 rad the original allowed (Rethink's limit is +-1.3963)."""
+    return max(-HEAD_PAN_LIMIT, min(HEAD_PAN_LIMIT, radians))

@@ -74,8 +74,8 @@ def _legacy_spelling(tree: Any) -> bool:
     )
 
 
-def parse_file(path: Union[str, Path], display_name: Optional[str] = None) -> n.Script:
-    """Read a script file (UTF-8, bounded in size) and parse it."""
+def parse_file(path: Union[str, Path, Any], display_name: Optional[str] = None) -> n.Script:
+    """Read a script file or binary stream (UTF-8, bounded in size) and parse it."""
     name = display_name or str(path)
     text = decode(read_bounded(path, name), name)
     return parse(text, name)

@@ -18,9 +18,9 @@ from typing import Any, Callable, Dict, List, NamedTuple, Optional, Sequence
 from . import nodes as n
 from .easing import EASINGS
 from .face import emotion_variants
-from .geometry import clamp_to_ellipse
+from .geometry import clamp_pan, clamp_to_ellipse
 from .state import FaceState, Parts
-from .tables import EMOTIONS, EYE_RADIUS_X, HEAD_PAN_LIMIT, TIMING
+from .tables import EMOTIONS, EYE_RADIUS_X, TIMING
 
 CROSSFADE = 0.15  # seconds a script's part swap blends over; 0 cuts
 EYE_SPAN_RAD = 0.25  # the eyes alone cover this much either side of the head
@@ -267,7 +267,7 @@ class _Compiler:
             head_rad = self.head.value(at)
             want = to_radians(s.x)
             if abs(want - head_rad) > EYE_SPAN_RAD:
-                pan = max(-HEAD_PAN_LIMIT, min(HEAD_PAN_LIMIT, want))
+                pan = clamp_pan(want)
                 self.head.move(at, duration, pan, s.easing)
                 self.actions.append(Action(at, "head", pan, duration))
                 self.eyes.move(at, duration, clamp_to_ellipse(0.0, s.y), s.easing)
@@ -318,7 +318,7 @@ class _Compiler:
 
     def do_wobble(self, s: n.Wobble, t: float) -> float:
         duration = TIMING.wobble if s.duration is None else s.duration
-        pan = max(-HEAD_PAN_LIMIT, min(HEAD_PAN_LIMIT, s.angle))
+        pan = clamp_pan(s.angle)
 
         def wobble(at: float) -> None:
             self.head.move(at, duration, pan, s.easing)

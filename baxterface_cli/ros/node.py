@@ -19,7 +19,7 @@ from typing import Any, List, Optional, Tuple
 
 from ..diagnostics import ScriptError
 from ..following import ArmFollower, HumanFollower
-from ..geometry import clamp_to_ellipse
+from ..geometry import clamp_pan, clamp_to_ellipse
 from ..live import LiveFace, sleep_face
 from ..renderer import Renderer, pose
 from ..state import FaceState
@@ -320,7 +320,7 @@ class FaceNode:
             return clamp_to_ellipse(to_pixels(want - head) if target == "human" else eye_x, eye_y)
         # The dynamic-look rule: beyond the eyes' own reach, the head turns.
         if abs(want - head) > EYE_SPAN_RAD and self.robot_enabled is not False:
-            pan = max(-1.5, min(1.5, want))
+            pan = clamp_pan(want)
             current = self.head_goal[0] if self.head_goal else head
             if abs(pan - current) > HEAD_FOLLOW_STEP:
                 self.head_goal = (pan, 1.0, now + HEAD_TIMEOUT)
