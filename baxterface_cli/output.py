@@ -1,20 +1,24 @@
 """Sinks that write frames to files: PNG images, numbered PNGs, animated GIFs.
 
-Every file is written beside its final name and renamed into place when
-complete, so an interrupted render leaves no half-written file behind.
+Every file is written beside its final name (see partial.py) and renamed
+into place when complete, so an interrupted render leaves no half-written
+file behind, and two renders to one name leave one of them, whole.
 """
 
 from __future__ import annotations
 
 import io
 import os
-import shutil
-import tempfile
+import re
+from contextlib import contextmanager
 from pathlib import Path
-from typing import Iterable, List, Optional, Tuple
+from typing import Iterable, Iterator, List, Optional, Tuple
 
 import numpy as np
 from PIL import GifImagePlugin, Image
+
+from . import partial
+from .partial import write_atomic
 
 TRANSPARENT = 255  # the GIF palette index meaning "as in the frame before"
 LUT_BITS = 5  # colour bits per channel of the palette lookup
@@ -29,27 +33,20 @@ def write_png(path: Path, frame_bgr: np.ndarray) -> None:
     write_atomic(path, data.getvalue())
 
 
-def write_atomic(path: Path, data: bytes) -> None:
-    tmp = path.with_name(f".{path.name}.partial")
-    try:
-        tmp.write_bytes(data)
-        os.replace(tmp, path)
-    finally:
-        if tmp.exists():
-            tmp.unlink()
+FRAME_NAME = re.compile(r"^frame_\d{5,}\.png$")  # what PngFolder writes, and all it replaces
 
 
 class PngFolder:
     """Numbered PNG frames (frame_00000.png, ...) in a folder.
 
     Frames go to a hidden folder beside the target first and move in only
-    when the render finishes.
+    when the render finishes, replacing the frames of any render before.
     """
 
     def __init__(self, folder: Path) -> None:
         self.folder = folder
         folder.parent.mkdir(parents=True, exist_ok=True)
-        self.staging = Path(tempfile.mkdtemp(prefix=f".{folder.name}.partial-", dir=str(folder.parent)))
+        self.staging = partial.create_folder(folder)
         self.count = 0
 
     def add(self, frame_bgr: np.ndarray) -> None:
@@ -59,18 +56,36 @@ class PngFolder:
 
     def close(self) -> List[Path]:
         self.folder.mkdir(parents=True, exist_ok=True)
-        for old in self.folder.glob("frame_*.png"):  # a previous render's frames would mix in
-            old.unlink()
-        written = []
-        for path in sorted(self.staging.iterdir()):
-            target = self.folder / path.name
-            os.replace(path, target)
-            written.append(target)
+        with _locked(self.folder):  # two renders into one folder must not mix their frames
+            for old in os.listdir(self.folder):
+                if FRAME_NAME.match(old):
+                    (self.folder / old).unlink()
+            written = []
+            for path in sorted(self.staging.iterdir()):
+                target = self.folder / path.name
+                os.replace(path, target)
+                written.append(target)
         self.staging.rmdir()
         return written
 
     def abort(self) -> None:
-        shutil.rmtree(self.staging, ignore_errors=True)
+        partial.remove(self.staging)
+
+
+@contextmanager
+def _locked(folder: Path) -> Iterator[None]:
+    """Hold an exclusive lock on `folder` (where the system has flock)."""
+    try:
+        import fcntl
+    except ImportError:
+        yield
+        return
+    fd = os.open(str(folder), os.O_RDONLY)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX)
+        yield
+    finally:
+        os.close(fd)
 
 
 def build_palette(frames_rgb: Iterable[np.ndarray], colours: int = 255) -> np.ndarray:
@@ -117,13 +132,16 @@ class GifWriter:
         padded = np.zeros((256, 3), np.uint8)
         padded[: len(palette)] = palette
         self.palette_bytes = padded.tobytes()
-        self.tmp = path.with_name(f".{path.name}.partial")
-        self.file = open(self.tmp, "wb")  # noqa: SIM115 - closed in close() or abort()
+        self.tmp, self.file = partial.create_file(path)  # closed in close() or abort()
         template = Image.new("P", size)
         template.putpalette(self.palette_bytes)
         header, _ = GifImagePlugin.getheader(template, self.palette_bytes, {"loop": 0})
-        for chunk in header:
-            self.file.write(chunk)
+        try:
+            for chunk in header:
+                self.file.write(chunk)
+        except BaseException:
+            self.abort()
+            raise
         self.previous_bgr: Optional[np.ndarray] = None
         self.previous_index: Optional[np.ndarray] = None
         self.pending: Optional[Tuple[Image.Image, Tuple[int, int], bool]] = None
@@ -182,5 +200,4 @@ class GifWriter:
 
     def abort(self) -> None:
         self.file.close()
-        if self.tmp.exists():
-            self.tmp.unlink()
+        partial.remove(self.tmp)

@@ -157,3 +157,71 @@ def test_a_terminal_gets_a_progress_bar(tmp_path):
     assert "rendering" in child.before  # the bar, drawn while it worked
     assert f"wrote {out} (91 frames, 3.00 s)" in child.before
     assert out.exists()
+
+
+def dead_pid():
+    """The id of a process that has come and gone."""
+    proc = subprocess.Popen([sys.executable, "-c", "pass"])
+    proc.wait()
+    return proc.pid
+
+
+def partial_name(target, pid, token="abcd1234"):
+    return f".{target}.{pid}.{token}.baxterface-partial"
+
+
+@pytest.mark.parametrize("target", ["face.png", "face.gif", "frames/"])
+def test_links_planted_beside_the_target_are_never_followed(tmp_path, target):
+    shared, victim, victim_dir = tmp_path / "shared", tmp_path / "victim.txt", tmp_path / "victim"
+    shared.mkdir()
+    victim.write_text("precious\n")
+    victim_dir.mkdir()
+    (victim_dir / "keep.txt").write_text("precious\n")
+    name = target.rstrip("/")
+    # The names renders used to write, and a stale-looking one of the new kind.
+    for planted in (f".{name}.partial", f".{name}.partial-abc123"):
+        (shared / planted).symlink_to(victim)
+    (shared / partial_name(name, dead_pid())).symlink_to(victim_dir, target_is_directory=True)
+    run = baxterface("render", "-e", "blink", "--size", "64x40", "--fps", "10", "--out", f"{shared}/{target}")
+    assert run.code == 0, run.err
+    assert victim.read_text() == "precious\n"
+    assert sorted(p.name for p in victim_dir.iterdir()) == ["keep.txt"]
+    assert (victim_dir / "keep.txt").read_text() == "precious\n"
+    out = shared / name
+    first = out / "frame_00000.png" if target.endswith("/") else out
+    assert not first.is_symlink()
+    Image.open(first).verify()
+
+
+def test_two_renders_to_one_target_at_once_leave_one_of_them_whole(tmp_path):
+    # Each render's result is known from a render alone; together, the
+    # target must be exactly one of the two, never a mixture. The seeds
+    # differ, and nothing else: the two keep pace, and overlap.
+    text = "repeat 10 { happy; look 40 -20 in 0.5s; sad; look -40 20 in 0.5s }"
+    seeds = ["1", "2"]
+    args = ["-e", text, "--size", "128x75", "--fps", "30", "-q"]
+    alone = []
+    for seed in seeds:
+        out = tmp_path / f"alone{seed}.gif"
+        assert baxterface("render", *args, "--seed", seed, "--out", str(out)).code == 0
+        alone.append(out.read_bytes())
+    assert alone[0] != alone[1]
+    for trial in range(3):
+        out = tmp_path / f"trial{trial}" / "show.gif"
+        out.parent.mkdir()
+        procs = [
+            subprocess.Popen(
+                [sys.executable, "-m", "baxterface_cli", "render", *args, "--seed", seed, "--out", str(out)],
+                cwd=str(ROOT),
+                stdout=subprocess.DEVNULL,
+                stderr=subprocess.PIPE,
+            )
+            for seed in seeds
+        ]
+        for proc in procs:
+            _, err = proc.communicate(timeout=120)
+            assert proc.returncode == 0, err.decode()
+        assert out.read_bytes() in alone, trial
+        assert [p.name for p in out.parent.iterdir()] == [out.name]
+        with Image.open(out) as im:
+            im.seek(im.n_frames - 1)  # every frame decodes
