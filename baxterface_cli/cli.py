@@ -151,10 +151,20 @@ def render(
     from .rendering import render as render_to
 
     try:
-        output_kind(out)
+        kind = output_kind(out)
     except ValueError as e:
         raise typer.BadParameter(str(e), param_hint="--out") from None
+    if at is not None and kind != "png":
+        raise typer.BadParameter(
+            "picks the frame of a .png; a .gif or a folder gets every frame", param_hint="--at"
+        )
     animation = animation_for(script_from(script_path, inline, "render"), seed, idle, crossfade)
+    if at is not None and at > animation.duration:
+        typer.echo(
+            f"baxterface render: --at {at:g} is past the script's end ({animation.duration:.2f} s); "
+            "showing the last frame",
+            err=True,
+        )
     renderer = Renderer(fitted_theme(theme, size))
     show_progress = not quiet and sys.stderr.isatty()
     try:

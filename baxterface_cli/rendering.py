@@ -9,6 +9,7 @@ import numpy as np
 
 from .idle import Animation
 from .output import GifWriter, PngFolder, build_palette, write_png
+from .partial import remove_stale
 from .renderer import Renderer
 
 Progress = Callable[[int, int], None]  # (frames done, frames in all)
@@ -16,6 +17,9 @@ Progress = Callable[[int, int], None]  # (frames done, frames in all)
 
 def output_kind(path: str) -> str:
     """ "folder", "gif" or "png", from how the user wrote the path."""
+    if not path:
+        # Path("") is the current folder: an empty variable would render there.
+        raise ValueError("--out is empty; give DIR/ (./ for this folder), FILE.gif or FILE.png")
     if path.endswith(("/", "\\")) or Path(path).is_dir():
         return "folder"
     suffix = Path(path).suffix.lower()
@@ -47,8 +51,11 @@ def render(
     """Write the animation to `out`; returns the number of frames written."""
     kind = output_kind(out)
     path = Path(out)
+    # Partials are written beside the target: for a folder, beside the folder.
+    path.parent.mkdir(parents=True, exist_ok=True)
+    remove_stale(path.parent)
     if kind == "png":
-        t = animation.duration if at is None else at
+        t = animation.duration if at is None else min(at, animation.duration)  # idle runs on past it
         write_png(path, renderer.render(animation.sample(t)))
         if progress:
             progress(1, 1)

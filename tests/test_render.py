@@ -225,3 +225,78 @@ def test_two_renders_to_one_target_at_once_leave_one_of_them_whole(tmp_path):
         assert [p.name for p in out.parent.iterdir()] == [out.name]
         with Image.open(out) as im:
             im.seek(im.n_frames - 1)  # every frame decodes
+
+
+def test_partials_of_killed_renders_are_removed_and_live_ones_kept(tmp_path):
+    dead, live = dead_pid(), os.getpid()
+    stale_file = tmp_path / partial_name("show.gif", dead)
+    stale_file.write_bytes(b"GIF89a half")
+    stale_folder = tmp_path / partial_name("frames", dead, "x_y9")
+    stale_folder.mkdir()
+    (stale_folder / "frame_00000.png").write_bytes(b"half")
+    others = [
+        tmp_path / partial_name("show.gif", live),  # still being written
+        tmp_path / partial_name("frames", live, "x_y8"),
+        tmp_path / ".show.gif.partial",  # not our naming: not ours to remove
+        tmp_path / f".notes.{dead}.txt",
+    ]
+    for path in others:
+        path.write_bytes(b"")
+    run = baxterface("render", "-e", "blink", "--size", "64x40", "--out", str(tmp_path / "show.gif"))
+    assert run.code == 0, run.err
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(["show.gif"] + [p.name for p in others])
+
+
+@pytest.mark.skipif(not hasattr(os, "geteuid") or os.geteuid() != 0, reason="needs root to give files away")
+def test_another_users_stale_partials_are_left_alone(tmp_path):
+    theirs = tmp_path / partial_name("show.gif", dead_pid())
+    theirs.write_bytes(b"")
+    os.chown(theirs, 65534, 65534)
+    assert (
+        baxterface("render", "-e", "blink", "--size", "64x40", "--out", str(tmp_path / "show.gif")).code == 0
+    )
+    assert theirs.exists()
+
+
+def test_an_empty_out_is_refused_and_touches_nothing(tmp_path):
+    (tmp_path / "frame_00000.png").write_bytes(b"mine")
+    run = baxterface("render", "-e", "happy", "--out", "", cwd=tmp_path)
+    assert run.code == 2 and "--out is empty; give DIR/ (./ for this folder)" in run.err
+    assert [p.name for p in tmp_path.iterdir()] == ["frame_00000.png"]
+
+
+def test_a_folder_render_replaces_only_frames_it_could_have_written(tmp_path):
+    (tmp_path / "frame_00042.png").write_bytes(b"old render")
+    keep = ["frame_final.png", "frame_1.png", "notes.txt"]
+    for name in keep:
+        (tmp_path / name).write_bytes(b"mine")
+    run = baxterface(
+        "render", "-e", "look 40 0 in 0.1s", "--size", "64x40", "--fps", "10", "--out", "./", cwd=tmp_path
+    )
+    assert run.code == 0, run.err
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(keep + ["frame_00000.png", "frame_00001.png"])
+
+
+@pytest.mark.parametrize("target", ["new/er/show.gif", "new/er/still.png", "new/er/frames/"])
+def test_missing_folders_on_the_way_are_made(tmp_path, target):
+    run = baxterface("render", "-e", "blink", "--size", "64x40", "--out", target, cwd=tmp_path)
+    assert run.code == 0, run.err
+    assert (tmp_path / target).exists()
+
+
+def test_at_past_the_end_warns_and_shows_the_last_frame(tmp_path):
+    text = "look 40 0 in 1s"
+    run = baxterface("render", "-e", text, "--at", "30", "--out", str(tmp_path / "late.png"))
+    assert run.code == 0
+    assert run.err == "baxterface render: --at 30 is past the script's end (1.00 s); showing the last frame\n"
+    assert baxterface("render", "-e", text, "--out", str(tmp_path / "end.png")).code == 0
+    assert (tmp_path / "late.png").read_bytes() == (tmp_path / "end.png").read_bytes()
+    at_end = baxterface("render", "-e", text, "--at", "1", "--out", str(tmp_path / "end.png"))
+    assert (at_end.code, at_end.err) == (0, "")
+
+
+@pytest.mark.parametrize("target", ["show.gif", "frames/"])
+def test_at_is_refused_for_outputs_of_every_frame(tmp_path, target):
+    run = baxterface("render", "-e", "blink", "--at", "0.5", "--out", target, cwd=tmp_path)
+    assert run.code == 2 and "picks the frame of a .png" in run.err
+    assert list(tmp_path.iterdir()) == []
