@@ -524,6 +524,8 @@ def theme_export(
     Every layer is a full-screen RGBA image; keep each file's size when you edit
     it, then use the folder with --theme DIR.
     """
+    if not folder:  # Path("") is the current folder
+        raise typer.BadParameter("is empty; give a folder (./ for this one)", param_hint="DIR")
     try:
         source = Theme.load(theme) if theme else Theme.default()
         written = source.export(folder, _size(size), force=force)

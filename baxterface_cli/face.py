@@ -22,7 +22,7 @@ from .geometry import clamp_pan, clamp_to_ellipse
 from .renderer import Renderer
 from .state import FaceState
 from .tables import BROWS, EMOTIONS, MOUTHS, SKINS
-from .theme import MAX_SIDE, Theme, resolve
+from .theme import Theme, check_size, resolve
 
 
 def emotion_variants(name: str) -> List[Tuple[str, str]]:
@@ -66,10 +66,7 @@ class Face:
     ) -> None:
         self.theme = resolve(theme)
         self.size = (int(size[0]), int(size[1]))
-        if not all(16 <= side <= MAX_SIDE for side in self.size):
-            raise ValueError(
-                f"size must be from 16 to {MAX_SIDE} pixels a side, not {self.size[0]}x{self.size[1]}"
-            )
+        check_size(self.size)
         self._renderer = Renderer(self.theme.layers(self.size))
         self.state = FaceState()
 

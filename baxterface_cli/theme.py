@@ -9,10 +9,14 @@ its vector shapes at any other size; other themes are resampled to fit.
 
 from __future__ import annotations
 
+import errno
 import io
 import json
 import math
 import os
+import re
+import stat
+import warnings
 from collections import OrderedDict
 from functools import lru_cache
 from pathlib import Path
@@ -23,11 +27,15 @@ from PIL import Image
 
 from . import artwork
 from .compositing import Sprite, split_columns, sprite_from_rgba
-from .output import write_atomic
+from .partial import remove_stale, write_atomic
 from .resources import resource
 
 MANIFEST = "theme.json"
 MAX_SIDE = 8192
+# Memory grows with the screen: a render that uses every emotion peaks near
+# 400 bytes a pixel (full-screen layers, and up to 12 part combinations
+# kept composited), 1 GB at 1920x1200 and 3.4 GB at 3840x2160, the most.
+MAX_PIXELS = 3840 * 2160
 Size = Tuple[int, int]
 Key = Tuple[str, str]  # (kind, name)
 FULL_SCREEN_KINDS = ("background", "skin")
@@ -68,13 +76,36 @@ def face_origin(size: Size) -> Tuple[float, float]:
 
 def parse_size(text: str) -> Size:
     """'1920x1200' -> (1920, 1200); ValueError with a clear message otherwise."""
-    parts = text.lower().replace(" ", "").split("x")
-    if len(parts) != 2 or not all(p.isdigit() for p in parts):
-        raise ValueError(f"size must look like 1024x600, not {text!r}")
-    width, height = int(parts[0]), int(parts[1])
-    if not (16 <= width <= MAX_SIDE and 16 <= height <= MAX_SIDE):
-        raise ValueError(f"size {width}x{height} is out of range (16 to {MAX_SIDE} pixels a side)")
-    return width, height
+    compact = text.lower().replace(" ", "")
+    # ASCII digits only: str.isdigit() takes '²', which int() refuses.
+    match = re.fullmatch(r"0*([0-9]{1,9})x0*([0-9]{1,9})", compact)
+    if not match:
+        if re.fullmatch(r"[0-9]+x[0-9]+", compact):  # a side of 10 digits or more
+            shown = compact if len(compact) <= 30 else compact[:30] + "..."
+            raise ValueError(f"size {shown} {size_problem((MAX_SIDE, MAX_SIDE))}")
+        raise ValueError(f"size must look like 1024x600, not {text[:40]!r}")
+    size = int(match.group(1)), int(match.group(2))
+    check_size(size)
+    return size
+
+
+def check_size(size: Size) -> None:
+    """ValueError unless a screen of `size` can be drawn in a few GB of memory."""
+    problem = size_problem(size)
+    if problem:
+        raise ValueError(f"size {size[0]}x{size[1]} {problem}")
+
+
+def size_problem(size: Size) -> Optional[str]:
+    """What is wrong with a screen size ('is too large: ...'), or None."""
+    width, height = size
+    if width < 16 or height < 16:
+        return "is too small: at least 16 pixels a side"
+    if width * height > MAX_PIXELS:
+        return f"is too large: at most {MAX_PIXELS} pixels (e.g. 3840x2160)"
+    if width > MAX_SIDE or height > MAX_SIDE:
+        return f"is too large: at most {MAX_SIDE} pixels a side"
+    return None
 
 
 class Theme:
@@ -100,20 +131,33 @@ class Theme:
     def load(cls, folder: Union[str, Path]) -> Theme:
         """Read a theme folder, checking every layer; ThemeError names what is wrong."""
         folder = Path(folder)
+        try:
+            return cls._load(folder)
+        except OSError as e:  # a name too long, say: Path.is_dir() lets that through
+            raise ThemeError(f"{folder}: cannot read: {e.strerror or e}") from None
+
+    @classmethod
+    def _load(cls, folder: Path) -> Theme:
         manifest_path = folder / MANIFEST
         if not folder.is_dir():
-            raise ThemeError(f"{folder}: not a theme folder (no such folder)")
+            why = "not a folder" if folder.exists() else "no such folder"
+            raise ThemeError(f"{folder}: not a theme folder ({why})")
         if not manifest_path.is_file():
             raise ThemeError(f"{manifest_path}: missing; a theme folder needs its manifest")
         manifest = _read_manifest(manifest_path)
         size = _manifest_size(manifest, manifest_path)
         lid_travel = manifest.get("lid_travel", artwork.LID_TRAVEL)
-        if not isinstance(lid_travel, (int, float)) or not 0 < lid_travel < 10_000:
+        if not _is_number(lid_travel) or not 0 < lid_travel < 10_000:
             raise ThemeError(f"{manifest_path}: 'lid_travel' must be a positive number of face pixels")
+        theme_name = manifest.get("name", folder.name)
+        if not isinstance(theme_name, str):
+            raise ThemeError(f"{manifest_path}: 'name' must be a string")
         images: Dict[Key, Placed] = {}
-        for entry in _manifest_layers(manifest, manifest_path):
+        for i, entry in enumerate(_manifest_layers(manifest, manifest_path)):
             kind = entry["kind"]
-            name = str(entry.get("name", kind))
+            name = entry.get("name", kind)
+            if (kind, name) in images:
+                raise ThemeError(f"{manifest_path}: layer {i + 1} repeats the {kind} layer named '{name}'")
             path = _layer_path(folder, entry["file"], manifest_path)
             anchor = _anchor(entry.get("anchor", [0, 0]), manifest_path, path)
             image = _read_image(path)
@@ -124,7 +168,7 @@ class Theme:
             kind, name = missing[0]
             more = f" and {len(missing) - 1} more" if len(missing) > 1 else ""
             raise ThemeError(f"{manifest_path}: no {kind} layer named '{name}'{more}")
-        return cls(str(manifest.get("name", folder.name)), size, float(lid_travel), images)
+        return cls(theme_name, size, float(lid_travel), images)
 
     # -- fitting to a screen
 
@@ -155,9 +199,18 @@ class Theme:
         """Write the layers (PNG) and theme.json to `folder`, to edit or to use with --theme."""
         folder = Path(folder)
         size = size or self.size
+        try:
+            return self._export(folder, size, force)
+        except OSError as e:
+            raise ThemeError(f"{folder}: cannot write: {e.strerror or e}") from None
+
+    def _export(self, folder: Path, size: Size, force: bool) -> List[Path]:
+        if folder.exists() and not folder.is_dir():
+            raise ThemeError(f"{folder}: not a folder; choose a new folder")
         if folder.exists() and any(folder.iterdir()) and not force:
             raise ThemeError(f"{folder}: not empty; choose a new folder or use --force")
         folder.mkdir(parents=True, exist_ok=True)
+        remove_stale(folder)
         written, layers = [], []
         for (kind, name), placed in self.placed_at(size).items():
             filename = f"{kind}.png" if kind == name else f"{kind}-{name}.png"
@@ -193,14 +246,27 @@ def resolve(theme: Union[None, str, Path, Theme]) -> Theme:
 
 
 def _read_manifest(path: Path) -> dict:
+    def whole_number(text: str) -> int:
+        # Python 3.11+ refuses ints of over 4300 digits, older ones take
+        # their time: no number a theme needs is longer than this.
+        if len(text) > 30:
+            raise ThemeError(f"{path}: the number {text[:20]}... is too long")
+        return int(text)
+
+    def constant(text: str) -> object:
+        raise ThemeError(f"{path}: {text} is not a number a theme can use")
+
     try:
         if path.stat().st_size > 1_000_000:
             raise ThemeError(f"{path}: too large for a theme manifest")
-        data = json.loads(path.read_text(encoding="utf-8"))
+        text = path.read_text(encoding="utf-8")
+        data = json.loads(text, parse_int=whole_number, parse_constant=constant)
     except UnicodeDecodeError:
         raise ThemeError(f"{path}: not UTF-8 text") from None
     except json.JSONDecodeError as e:
         raise ThemeError(f"{path}:{e.lineno}:{e.colno}: not valid JSON: {e.msg}") from None
+    except RecursionError:
+        raise ThemeError(f"{path}: nested too deeply for a theme manifest") from None
     except OSError as e:
         raise ThemeError(f"{path}: cannot read: {e.strerror or e}") from None
     if not isinstance(data, dict):
@@ -208,14 +274,21 @@ def _read_manifest(path: Path) -> dict:
     return data
 
 
+def _is_int(value: object) -> bool:
+    return isinstance(value, int) and not isinstance(value, bool)  # JSON's true is no number
+
+
+def _is_number(value: object) -> bool:
+    return _is_int(value) or isinstance(value, float)
+
+
 def _manifest_size(manifest: dict, path: Path) -> Size:
     size = manifest.get("size")
-    if (
-        not isinstance(size, list)
-        or len(size) != 2
-        or not all(isinstance(v, int) and 16 <= v <= MAX_SIDE for v in size)
-    ):
+    if not isinstance(size, list) or len(size) != 2 or not all(_is_int(v) for v in size):
         raise ThemeError(f"{path}: 'size' must be [width, height] in pixels, like [1024, 600]")
+    problem = size_problem((size[0], size[1]))
+    if problem:
+        raise ThemeError(f"{path}: 'size' {size} {problem}")
     return size[0], size[1]
 
 
@@ -227,7 +300,9 @@ def _manifest_layers(manifest: dict, path: Path) -> List[dict]:
     for i, entry in enumerate(layers):
         if not isinstance(entry, dict) or not all(isinstance(entry.get(k), str) for k in ("kind", "file")):
             raise ThemeError(f"{path}: layer {i + 1} needs a 'kind', a 'name' and a 'file'")
-        key = (entry["kind"], str(entry.get("name", entry["kind"])))
+        if not isinstance(entry.get("name", ""), str):
+            raise ThemeError(f'{path}: layer {i + 1}\'s \'name\' must be a string, like "0" or "smile"')
+        key = (entry["kind"], entry.get("name", entry["kind"]))
         if key not in known:
             kinds = sorted({k for k, _ in known})
             raise ThemeError(
@@ -238,30 +313,48 @@ def _manifest_layers(manifest: dict, path: Path) -> List[dict]:
 
 def _layer_path(folder: Path, name: str, manifest_path: Path) -> Path:
     """The layer's file, which must lie inside the theme folder."""
-    path = (folder / name).resolve()
-    root = folder.resolve()
+    if "\0" in name:
+        raise ThemeError(f"{manifest_path}: layer file {name!r} has a NUL character in its name")
+    try:
+        os.fsencode(name)
+        path = (folder / name).resolve()
+        root = folder.resolve()
+    except UnicodeEncodeError:
+        raise ThemeError(f"{manifest_path}: layer file {name!r} is not a possible file name here") from None
+    except (OSError, RuntimeError) as e:  # RuntimeError: a loop of links, before Python 3.13
+        why = getattr(e, "strerror", None) or e
+        raise ThemeError(f"{manifest_path}: layer file {name!r}: {why}") from None
     if os.path.isabs(name) or root not in path.parents:
         raise ThemeError(f"{manifest_path}: layer file {name!r} must be inside the theme folder")
     return folder / name
 
 
 def _anchor(value: object, manifest_path: Path, path: Path) -> Tuple[int, int]:
-    if not isinstance(value, list) or len(value) != 2 or not all(isinstance(v, int) for v in value):
+    if not isinstance(value, list) or len(value) != 2 or not all(_is_int(v) for v in value):
         raise ThemeError(f"{manifest_path}: the anchor of {path.name} must be [x, y] in whole pixels")
     return value[0], value[1]
 
 
 def _read_image(path: Path) -> Image.Image:
-    if not path.is_file():
-        raise ThemeError(f"{path}: missing (named in {MANIFEST})")
     try:
-        with Image.open(path) as image:
-            if image.width > MAX_SIDE or image.height > MAX_SIDE:
-                raise ThemeError(f"{path}: {image.width}x{image.height} is too large")
-            return image.convert("RGBA")
+        info = path.stat()
+    except OSError as e:
+        if e.errno in (errno.ENOENT, errno.ENOTDIR):
+            raise ThemeError(f"{path}: missing (named in {MANIFEST})") from None
+        raise ThemeError(f"{path}: cannot read: {e.strerror or e}") from None
+    if not stat.S_ISREG(info.st_mode):
+        raise ThemeError(f"{path}: not a file (named in {MANIFEST})")
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", Image.DecompressionBombWarning)  # the size is checked below
+            with Image.open(path) as image:
+                problem = size_problem((max(image.width, 16), max(image.height, 16)))
+                if problem:
+                    raise ThemeError(f"{path}: {image.width}x{image.height} {problem}")
+                return image.convert("RGBA")
     except ThemeError:
         raise
-    except (OSError, SyntaxError, ValueError, Image.DecompressionBombError) as e:
+    except Exception as e:  # noqa: BLE001 - a decoder may fail in any way on a damaged file
         raise ThemeError(f"{path}: cannot read image: {e}") from None
 
 

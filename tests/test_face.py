@@ -164,7 +164,7 @@ def test_bad_part_names_and_values_are_refused_clearly(face):
         face.look_at(float("nan"), 0)
     with pytest.raises(ValueError, match="skin"):
         face.set_skin(True)  # type: ignore[arg-type]
-    with pytest.raises(ValueError, match="size must be"):
+    with pytest.raises(ValueError, match="size 0x600 is too small"):
         Face(size=(0, 600))
     face.frame()  # still drawable after every refusal
 

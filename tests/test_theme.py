@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import os
 import shutil
 
 import numpy as np
@@ -130,3 +131,140 @@ def test_sizes_parse(text, size):
 def test_bad_sizes_say_so(text):
     with pytest.raises(ValueError):
         parse_size(text)
+
+
+def write_manifest_text(folder, old, new):
+    path = folder / "theme.json"
+    text = path.read_text()
+    assert old in text
+    path.write_text(text.replace(old, new, 1))
+
+
+@pytest.mark.parametrize(
+    "damage, message",
+    [
+        (lambda d: break_manifest(d, lambda m: m["layers"][0].update(file="eyes\0.png")), "a NUL character"),
+        (
+            lambda d: break_manifest(d, lambda m: m["layers"][0].update(file="\ud800.png")),
+            "not a possible file",
+        ),
+        (
+            lambda d: write_manifest_text(d, '"lid_travel": 330.0', '"lid_travel": ' + "9" * 5000),
+            "is too long",
+        ),
+        (lambda d: (d / "theme.json").write_text("[" * 100_000 + "]" * 100_000), "nested too deeply"),
+        (lambda d: write_manifest_text(d, '"lid_travel": 330.0', '"lid_travel": NaN'), "NaN is not a number"),
+        (
+            lambda d: write_manifest_text(d, '"lid_travel": 330.0', '"lid_travel": 1e309'),
+            "'lid_travel' must be",
+        ),
+        (lambda d: break_manifest(d, lambda m: m.update(lid_travel=True)), "'lid_travel' must be"),
+        (lambda d: break_manifest(d, lambda m: m.update(size=[True, 150])), "'size' must be [width, height]"),
+        (
+            lambda d: break_manifest(d, lambda m: m.update(size=[-256, 150])),
+            "'size' [-256, 150] is too small",
+        ),
+        (lambda d: break_manifest(d, lambda m: m.update(size=[8192, 8192])), "at most 8294400 pixels"),
+        (lambda d: break_manifest(d, lambda m: m["layers"][5].update(anchor=[False, 0])), "the anchor of"),
+        (lambda d: break_manifest(d, lambda m: m["layers"][5].update(anchor=[0.5, 0])), "the anchor of"),
+        (lambda d: break_manifest(d, lambda m: m.update(name=["mine"])), "'name' must be a string"),
+        (
+            lambda d: break_manifest(d, lambda m: m["layers"][3].update(name=0)),
+            "layer 4's 'name' must be a string",
+        ),
+        (lambda d: break_manifest(d, lambda m: m["layers"].append(m["layers"][0])), "layer 22 repeats the"),
+        (
+            lambda d: break_manifest(d, lambda m: m["layers"][0].update(file="/etc/hostname")),
+            "inside the theme",
+        ),
+        (lambda d: (d / "eyes.png").write_bytes(b""), "eyes.png: cannot read image"),
+        (
+            lambda d: _blank(d / "eyes.png", (10_000, 10_000)),
+            "eyes.png: 10000x10000 is too large: at most 8294400",
+        ),
+        (lambda d: ((d / "eyes.png").unlink(), (d / "eyes.png").mkdir()), "eyes.png: not a file"),
+        (
+            lambda d: _link(d / "eyes.png", d.parent / "outside.png"),
+            "'eyes.png' must be inside the theme folder",
+        ),
+        (lambda d: _link(d / "eyes.png", d / "eyes.png"), "eyes.png"),  # a loop
+    ],
+)
+def test_odd_manifests_and_files_fail_with_one_clear_line(theme_dir, damage, message):
+    damage(theme_dir)
+    run = baxterface("theme", "check", str(theme_dir))
+    assert run.code == 1, run.err
+    assert run.err.startswith(f"baxterface: {theme_dir}") and run.err.count("\n") == 1
+    assert message in run.err
+
+
+def _blank(path, size):
+    from PIL import Image
+
+    Image.new("1", size).save(path)
+
+
+def _link(path, target):
+    """Replace the layer `path` by a link to `target`, which gets its image."""
+    if target != path:
+        shutil.copy(path, target)
+    path.unlink()
+    path.symlink_to(target)
+
+
+def test_a_layer_of_another_format_or_mode_is_fine(theme_dir):
+    from PIL import Image
+
+    Image.open(theme_dir / "skin-0.png").save(theme_dir / "skin-0.png", format="GIF")
+    Image.open(theme_dir / "skin-1.png").convert("L").save(theme_dir / "skin-1.png")
+    assert baxterface("theme", "check", str(theme_dir)).code == 0
+
+
+def test_export_onto_a_file_or_where_it_cannot_write_fails_clearly(tmp_path):
+    afile = tmp_path / "afile"
+    afile.write_text("mine\n")
+    for folder, message in [
+        (afile, f"baxterface: {afile}: not a folder; choose a new folder"),
+        (afile / "sub", f"baxterface: {afile / 'sub'}: cannot write: Not a directory"),
+        ("/proc/x", "baxterface: /proc/x: cannot write: "),
+    ]:
+        run = baxterface("theme", "export", str(folder), "--size", "64x40")
+        assert run.code == 1 and run.err.startswith(message) and run.err.count("\n") == 1, run.err
+    assert afile.read_text() == "mine\n"
+    empty = baxterface("theme", "export", "", cwd=tmp_path)
+    assert empty.code == 2 and "is empty" in empty.err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["afile"]
+
+
+@pytest.mark.skipif(os.name != "posix" or os.geteuid() == 0, reason="root writes to read-only folders")
+def test_export_into_a_read_only_folder_fails_clearly(tmp_path):
+    locked = tmp_path / "locked"
+    locked.mkdir()
+    locked.chmod(0o500)
+    try:
+        run = baxterface("theme", "export", str(locked / "t"), "--size", "64x40")
+    finally:
+        locked.chmod(0o700)
+    assert run.code == 1 and run.err == f"baxterface: {locked / 't'}: cannot write: Permission denied\n"
+
+
+@pytest.mark.parametrize(
+    "text, message",
+    [
+        ("8192x8192", "size 8192x8192 is too large: at most 8294400 pixels (e.g. 3840x2160)"),
+        ("8200x100", "size 8200x100 is too large: at most 8192 pixels a side"),
+        ("15x600", "size 15x600 is too small: at least 16 pixels a side"),
+        ("²x3", "size must look like 1024x600"),
+        ("1" + "0" * 5000 + "x600", "is too large"),
+    ],
+)
+def test_sizes_out_of_bounds_say_which_bound(text, message):
+    with pytest.raises(ValueError) as caught:
+        parse_size(text)
+    assert message in str(caught.value) and len(str(caught.value)) < 100
+
+
+def test_the_largest_size_is_allowed_everywhere():
+    assert parse_size("3840x2160") == (3840, 2160)
+    with pytest.raises(ValueError, match="too large"):
+        Face(size=(8192, 8192))
