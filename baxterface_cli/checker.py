@@ -10,7 +10,8 @@ from typing import Any, Dict, Iterator, List, Sequence, Set, Tuple
 
 from . import nodes as n
 from .diagnostics import Diagnostic, did_you_mean
-from .tables import EMOTIONS, LIMITS, TIMING
+from .durations import statement_seconds
+from .tables import LIMITS
 from .vocabulary import BARE_WORDS, KEYWORDS, LEGACY_USAGE
 
 
@@ -137,22 +138,6 @@ def _call_order(definitions: Dict[str, n.Define], out: List[Diagnostic]) -> Any:
 
 
 # -- length and size -------------------------------------------------------
-
-
-def statement_seconds(statement: Any) -> float:
-    """How long one simple statement takes on the script's clock."""
-    if isinstance(statement, n.Emotion):
-        return EMOTIONS[statement.name].lid_seconds
-    if isinstance(statement, n.Wait):
-        return statement.duration
-    if isinstance(statement, n.Blink):
-        return TIMING.blink_close + TIMING.blink_open
-    if isinstance(statement, n.Nod):
-        return TIMING.nod
-    default = {n.Look: TIMING.look, n.Wobble: TIMING.wobble, n.Eyelids: TIMING.eyelids}.get(type(statement))
-    if default is not None:
-        return default if statement.duration is None else statement.duration
-    return 0.0
 
 
 Measure = Tuple[float, int]  # (seconds, steps once unrolled)

@@ -198,6 +198,7 @@ def explain(
     With --json, print one record per frame with the whole face state (skin,
     mouth, brows, eyes, eyelids, head pan, crossfade) and the robot's status.
     """
+    from .effects import EffectWords
     from .timeline import state_record
 
     script = script_from(script_path, inline, "explain")
@@ -208,20 +209,19 @@ def explain(
             typer.echo(json.dumps(state_record(t, animation.sample(t), timeline.status(t)), sort_keys=True))
         return
     typer.echo(f"{script.filename}: {timeline.duration:.2f} s")
+
+    def row(start: float, end: float, what: str) -> None:
+        when = f"{start:6.2f} s" if end == start else f"{start:6.2f} - {end:6.2f} s"
+        typer.echo(f"  {when:<19} {what}")
+
     for span in timeline.spans:
-        when = f"{span.start:6.2f} s" if span.end == span.start else f"{span.start:6.2f} - {span.end:6.2f} s"
-        typer.echo(f"  {when:<19} line {span.line:<4} {span.text}")
+        row(span.start, span.end, f"line {span.line:<4} {span.text}")
     for change in timeline.parts:
         p = change.parts
-        typer.echo(f"  {change.at:6.2f} s{'':<12} face  skin {p.skin}, mouth {p.mouth}, brows {p.brows}")
-    for action in timeline.actions:
-        detail = {"head": f"head pan to {action.value:+.2f} rad over {action.duration:g} s"}.get(
-            action.kind, action.kind
-        )
-        if action.kind == "follow":
-            target, dynamic = action.value
-            detail = f"follow {target or 'off'}" + (" dynamic" if dynamic else "")
-        typer.echo(f"  {action.at:6.2f} s{'':<12} robot {detail}")
+        row(change.at, change.at, f"face  skin {p.skin}, mouth {p.mouth}, brows {p.brows}")
+    words = EffectWords()
+    for cue in timeline.cues:
+        row(cue.at, cue.at, f"robot {cue.effect.visit(words, cue.at)}")
 
 
 @app.command()
@@ -270,15 +270,20 @@ def play(
     screen = WindowScreen() if window else TerminalScreen()
     player = Player(animation, renderer, screen, fps)
     poll = _watcher(script_path, seed, idle, crossfade, player) if watch else None
-    played = 0.0
+    interrupted = False
     try:
-        played = player.run(loop=loop, hold=watch, poll=poll)
+        player.run(loop=loop, hold=watch, poll=poll)
     except KeyboardInterrupt:
-        pass
+        interrupted = True
     finally:
         screen.close()
-    summary = f"played {player.animation.duration:.2f} s of script in {played:.2f} s"
-    typer.echo(f"{summary}: {player.frames_shown} frames ({screen.name})", err=True)
+    shown = f"{player.frames_shown} frames ({screen.name})"
+    length = player.animation.duration
+    if interrupted:  # the shell's convention: 128 + SIGINT
+        where = f"{player.position:.2f} s of {length:.2f} s of script"
+        typer.echo(f"interrupted at {where}, after {player.elapsed():.2f} s: {shown}", err=True)
+        raise typer.Exit(130)
+    typer.echo(f"played {length:.2f} s of script in {player.elapsed():.2f} s: {shown}", err=True)
 
 
 ROS_ARGS = {"allow_extra_args": True, "ignore_unknown_options": True}

@@ -3,8 +3,9 @@
 The face node is this plus ROS. Each command is parsed and compiled by the
 same engine as `play` and `render`, starting from the face as it is at that
 moment; it takes over from whatever was playing (or waits its turn, when
-queued). Idle blinks go on between and after commands. Robot actions (head,
-nod, enable, follow, exit) fall due as time passes and are handed out once.
+queued). Idle blinks go on between and after commands. Robot effects (head,
+nod, enable, follow, exit) fall due as time passes and are handed out once;
+the robot's status (following, exited) carries over from script to script.
 """
 
 from __future__ import annotations
@@ -13,12 +14,13 @@ import random
 from collections import deque
 from typing import Deque, List, Optional, Tuple
 
+from .effects import Cue, RobotStatus, StatusFold
 from .idle import Idle
 from .nodes import Script
 from .parser import parse
 from .state import FaceState
 from .tables import EMOTIONS
-from .timeline import Action, Timeline, compile_script
+from .timeline import Timeline, compile_script
 
 IDLE_AHEAD = 30.0  # seconds of idle blinks planned ahead of the clock
 
@@ -26,7 +28,9 @@ IDLE_AHEAD = 30.0  # seconds of idle blinks planned ahead of the clock
 def sleep_face() -> FaceState:
     """The face the original node started with and ended on."""
     spec = EMOTIONS["sleep"]
-    return FaceState(skin=spec.skin, mouth=spec.mouths[0], brows=spec.brows[0], eyelids=spec.eyelids)
+    return FaceState(
+        skin=spec.skin, mouth=spec.mouths[0], brows=spec.brows[0], eyelids=spec.eyelids, emotion="sleep"
+    )
 
 
 class LiveFace:
@@ -42,9 +46,7 @@ class LiveFace:
         self.rng = random.Random(seed)
         self.idle_on = idle
         self.queue: Deque[Tuple[Script, float]] = deque()
-        self.following: Tuple[Optional[str], bool] = (None, False)
-        self.emotion: Optional[str] = None
-        self.exited = False
+        self._robot = StatusFold()
         self._begin(parse(""), start or FaceState(), now)
 
     # -- commands
@@ -64,13 +66,10 @@ class LiveFace:
     def _begin(self, script: Script, start: FaceState, now: float) -> None:
         self.timeline: Timeline = compile_script(script, seed=self.rng.randrange(2**32), start=start)
         self.started = now
-        self.pending: List[Action] = list(self.timeline.actions)
+        self.pending: List[Cue] = list(self.timeline.cues)
         self.idle = (
             Idle(self.timeline, seed=self.rng.randrange(2**32), until=IDLE_AHEAD) if self.idle_on else None
         )
-        names = [s.text for s in self.timeline.spans if s.text in EMOTIONS]
-        if names:
-            self.emotion = names[-1]
 
     def finished(self, now: float) -> bool:
         return now - self.started >= self.timeline.duration
@@ -90,18 +89,23 @@ class LiveFace:
         if self.idle is not None:
             t = now - self.started
             self.idle.extend(t + IDLE_AHEAD)  # cheap: it plans only past what it has
-            following = self.following[0] is not None
-            state = self.idle.apply(t, state, darts=not following)
+            state = self.idle.apply(t, state, darts=self.robot.following is None)
         return state
 
-    def due(self, now: float) -> List[Action]:
-        """Robot actions whose time has come since the last call, each handed out once."""
+    @property
+    def robot(self) -> RobotStatus:
+        """The robot's status as the effects handed out so far left it."""
+        return self._robot.status
+
+    @property
+    def exited(self) -> bool:
+        return self.robot.exited
+
+    def due(self, now: float) -> List[Cue]:
+        """Robot effects whose time has come since the last call, each handed out once."""
         t = now - self.started
-        ready = [a for a in self.pending if a.at <= t]
-        self.pending = [a for a in self.pending if a.at > t]
-        for action in ready:
-            if action.kind == "follow":
-                self.following = action.value
-            elif action.kind == "exit":
-                self.exited = True
+        ready = [c for c in self.pending if c.at <= t]
+        self.pending = [c for c in self.pending if c.at > t]
+        for cue in ready:
+            cue.effect.visit(self._robot, cue.at)
         return ready

@@ -388,7 +388,7 @@ class _Builder(Transformer):
             x, y = self._point(args[:2])
             duration = self._seconds(args[2], "a duration") if len(args) == 3 else None
             self._eye_target(token, x, y)
-            return n.Look(x, y, duration, dynamic=command == "dynamic_look", pos=pos)
+            return n.Look(x, y, n.Timing(duration), dynamic=command == "dynamic_look", pos=pos)
         if command == "wobble":
             return n.Wobble(self._angle(args[0], token), pos=pos)
         return n.Skin(self._skin(args[0]), pos=pos)
@@ -398,10 +398,9 @@ class _Builder(Transformer):
         if dynamic:
             children = children[1:]
         (x, y), rest = children[0], children[1:]
-        duration, easing = rest[0] if rest else (None, "linear")
         if not isinstance(children[0], _Direction):
             self._eye_target(meta, x, y)
-        return n.Look(x, y, duration, easing, dynamic, pos=_pos(meta))
+        return n.Look(x, y, rest[0] if rest else n.Timing(), dynamic, pos=_pos(meta))
 
     def point(self, meta: Any, children: List[Token]) -> Tuple[float, float]:
         return self._point(children)
@@ -411,12 +410,12 @@ class _Builder(Transformer):
         name = self._known(token, DIRECTIONS, "direction")
         return _Direction(DIRECTIONS.get(name, (0.0, 0.0)))
 
-    def timing(self, meta: Any, children: List[Any]) -> Tuple[Optional[float], str]:
+    def timing(self, meta: Any, children: List[Any]) -> n.Timing:
         duration = None
         if isinstance(children[0], Token):
             duration = self._seconds(children[0], "a duration")
             children = children[1:]
-        return duration, (children[0] if children else "linear")
+        return n.Timing(duration, children[0] if children else "linear")
 
     def easing(self, meta: Any, children: List[Token]) -> str:
         return self._known(children[0], EASINGS, "easing")
@@ -426,8 +425,7 @@ class _Builder(Transformer):
 
     def wobble(self, meta: Any, children: List[Any]) -> n.Wobble:
         angle = self._angle(children[0], meta)
-        duration, easing = children[1] if len(children) > 1 else (None, "linear")
-        return n.Wobble(angle, duration, easing, pos=_pos(meta))
+        return n.Wobble(angle, children[1] if len(children) > 1 else n.Timing(), pos=_pos(meta))
 
     def skin(self, meta: Any, children: List[Token]) -> n.Skin:
         return n.Skin(self._skin(children[0]), pos=_pos(meta))
@@ -449,8 +447,7 @@ class _Builder(Transformer):
             self._error(
                 children[0], f"eyelid openness must be from 0 (closed) to 1 (open), not {children[0]}"
             )
-        duration, easing = children[1] if len(children) > 1 else (None, "linear")
-        return n.Eyelids(openness, duration, easing, pos=_pos(meta))
+        return n.Eyelids(openness, children[1] if len(children) > 1 else n.Timing(), pos=_pos(meta))
 
     def follow(self, meta: Any, children: List[Any]) -> n.Follow:
         target = children[0]

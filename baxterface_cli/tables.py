@@ -33,6 +33,11 @@ class EmotionSpec(NamedTuple):
     eyelids: float  # openness the lids move to: 1 open .. 0 closed
     lid_seconds: float  # the lids move first, over this time
 
+    @property
+    def variants(self) -> Tuple[Tuple[str, str], ...]:
+        """The (mouth, brows) pairs the emotion picks from, in table order."""
+        return tuple((m, b) for m in self.mouths for b in self.brows)
+
 
 EMOTIONS: Dict[str, EmotionSpec] = {
     "default": EmotionSpec(2, ("smile",), ("normal",), 1.0, 0.3),
@@ -70,6 +75,10 @@ DIRECTIONS: Dict[str, Tuple[float, float]] = {
 EYE_RADIUS_X = 80.0
 EYE_RADIUS_Y = 120.0
 HEAD_PAN_LIMIT = 1.5  # radians; wobble clamps to +-this
+# A head pan's speed ratio is its radians per second over this, within the
+# bounds below: the mapping the face node has always used.
+HEAD_TOP_SPEED = 1.0  # radians a second at speed ratio 1
+HEAD_SPEED_RATIO = (0.05, 1.0)
 
 
 class Timing(NamedTuple):

@@ -34,5 +34,5 @@ def test_show_is_15_to_30_seconds_and_uses_most_of_the_language():
     wanted = {n.Emotion, n.Look, n.Blink, n.Wait, n.Wobble, n.Nod, n.Skin, n.Mouth, n.Brows, n.Eyelids}
     wanted |= {n.Repeat, n.Together, n.Define, n.Call}
     assert wanted <= kinds, wanted - kinds
-    easings = {s.easing for s in walk(script.body) if isinstance(s, n.Look)}
+    easings = {s.timing.easing for s in walk(script.body) if isinstance(s, n.Look)}
     assert {"ease-in", "ease-out", "ease-in-out", "linear"} <= easings

@@ -30,7 +30,7 @@ def errors(text):
 def test_the_users_own_example():
     assert body("happy; look 40 -20 in 0.5s; wobble 0.3") == (
         n.Emotion("happy"),
-        n.Look(40, -20, 0.5),
+        n.Look(40, -20, n.Timing(0.5)),
         n.Wobble(0.3),
     )
 
@@ -51,23 +51,23 @@ def test_keywords_and_names_are_case_insensitive():
     "text, node",
     [
         ("look 40 -20", n.Look(40, -20)),
-        ("look 40 -20 in 500ms", n.Look(40, -20, 0.5)),
-        ("look 40 -20 in 2", n.Look(40, -20, 2.0)),
+        ("look 40 -20 in 500ms", n.Look(40, -20, n.Timing(0.5))),
+        ("look 40 -20 in 2", n.Look(40, -20, n.Timing(2.0))),
         ("look 10px 20px", n.Look(10, 20)),
-        ("look 40 -20 in 0.5s ease-in-out", n.Look(40, -20, 0.5, "ease-in-out")),
-        ("look 40 -20 ease-out", n.Look(40, -20, None, "ease-out")),
+        ("look 40 -20 in 0.5s ease-in-out", n.Look(40, -20, n.Timing(0.5, "ease-in-out"))),
+        ("look 40 -20 ease-out", n.Look(40, -20, n.Timing(None, "ease-out"))),
         ("look left", n.Look(65, 0)),
         ("look right", n.Look(-65, 0)),
         ("look up", n.Look(0, -97.5)),
-        ("look down in 1s", n.Look(0, 97.5, 1.0)),
+        ("look down in 1s", n.Look(0, 97.5, n.Timing(1.0))),
         ("look center", n.Look(0, 0)),
         ("look centre", n.Look(0, 0)),
-        ("dynamic look 30 0 in 1s ease-in", n.Look(30, 0, 1.0, "ease-in", dynamic=True)),
+        ("dynamic look 30 0 in 1s ease-in", n.Look(30, 0, n.Timing(1.0, "ease-in"), dynamic=True)),
         ("blink", n.Blink()),
         ("wait 2s", n.Wait(2.0)),
         ("wait 250ms", n.Wait(0.25)),
         ("wobble 0.3", n.Wobble(0.3)),
-        ("wobble 0.3 in 1s ease-in-out", n.Wobble(0.3, 1.0, "ease-in-out")),
+        ("wobble 0.3 in 1s ease-in-out", n.Wobble(0.3, n.Timing(1.0, "ease-in-out"))),
         ("nod", n.Nod()),
         ("enable", n.Enable()),
         ("disable", n.Disable()),
@@ -78,7 +78,7 @@ def test_keywords_and_names_are_case_insensitive():
         ("mouth teeth", n.Mouth("teeth")),
         ("brows worried", n.Brows("worried")),
         ("eyelids 0.5", n.Eyelids(0.5)),
-        ("eyelids 0 in 1s", n.Eyelids(0.0, 1.0)),
+        ("eyelids 0 in 1s", n.Eyelids(0.0, n.Timing(1.0))),
         ("eyelids 25%", n.Eyelids(0.25)),
         ("follow human", n.Follow("human")),
         ("follow left arm dynamic", n.Follow("left arm", True)),
@@ -109,9 +109,9 @@ def test_blocks_and_definitions():
         """
     )
     define, repeat, together = script.body
-    assert define == n.Define("greet", (n.Emotion("happy"), n.Look(65, 0, 1.0)))
+    assert define == n.Define("greet", (n.Emotion("happy"), n.Look(65, 0, n.Timing(1.0))))
     assert repeat == n.Repeat(3, (n.Blink(), n.Wait(1.0)))
-    assert together == n.Together((n.Call("greet"), n.Wobble(0.3, 1.0)))
+    assert together == n.Together((n.Call("greet"), n.Wobble(0.3, n.Timing(1.0))))
     assert script.definitions == {"greet": define}
 
 
