@@ -9,6 +9,8 @@ its own process, and measures from a third one (this):
   change the face at once) to the first changed frame received here; the
   baseline, measured in this run, is a relay that answers each command with
   a frame it already holds: ROS's own cost of moving 1.8 MB;
+- first motion: from `look_60_0` (a 0.5 s move) to the first frame showing
+  the eyes moving, beside a jump (`look_60_0_0`), which shows at once;
 - frame rate reaching a subscriber during a 30 fps look animation whose
   every frame differs (the node sends no frame that did not change);
 - an idle face (idle blinks on): frames a second between blinks, and the
@@ -57,17 +59,18 @@ class Frames:
         self.event.set()
 
 
-def latencies(rospy, String, frames, count=120):
+def latencies(rospy, String, frames, commands=("skin_3", "skin_1"), count=120, gap=0.15):
+    """Milliseconds from each command to the first frame that reaches us after it."""
     pub = rospy.Publisher("/display_chatter", String, queue_size=10)
     time.sleep(1.0)
     out = []
     for i in range(count):
         frames.event.clear()
         sent = time.monotonic()
-        pub.publish(String("skin_1" if i % 2 else "skin_3"))
+        pub.publish(String(commands[i % len(commands)]))
         if frames.event.wait(2.0):
             out.append((frames.times[-1] - sent) * 1000)
-        time.sleep(0.15)
+        time.sleep(gap)  # the move ends (a timed look lasts 0.5 s) before the next command
     pub.unregister()
     return out
 
@@ -110,6 +113,9 @@ def main() -> None:
         )
         time.sleep(4.0)
         ours = latencies(rospy, String, frames)
+        # A jump shows at once; a timed move (0.5 s) must show its first motion as soon.
+        jumps = latencies(rospy, String, frames, ("look_60_0_0", "look_-60_0_0"), count=60, gap=0.3)
+        moves = latencies(rospy, String, frames, ("look_60_0", "look_-60_0"), count=60, gap=0.8)
 
         chatter = rospy.Publisher("/display_chatter", String, queue_size=10)
         time.sleep(0.5)
@@ -154,6 +160,12 @@ def main() -> None:
             f"({len(values)} answered)"
         )
     print(f"  node / floor: median {statistics.median(ours) / statistics.median(floor):.1f}x")
+    print("look_60_0 on display_chatter -> first frame showing the eyes moving (ms), 60 commands each")
+    for name, values in (("jump (look_60_0_0)", jumps), ("0.5 s move (look_60_0)", moves)):
+        print(
+            f"  {name:<24} median {statistics.median(values):6.1f}  max {max(values):6.1f}  "
+            f"({len(values)} answered)"
+        )
     print(f"30 fps look animation reaching a subscriber: {look_fps:.1f} frames/s")
     print(
         f"idle face over {spent:.0f} s: {len(stamps)} frames, {quiet_rate:.2f} frames/s between blinks, "

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import os
 
 import pytest
 
@@ -131,6 +132,8 @@ def test_without_ros_the_ros_commands_say_how_to_get_it(command):
     except ImportError:
         pass
     run = baxterface(*command)
-    assert run.code == 1
-    assert "ROS 1 is not installed" in run.err and "apt-get install" in run.err
-    assert "Traceback" not in run.err
+    assert run.code == 1 and "Traceback" not in run.err
+    if os.path.isdir("/usr/lib/python3/dist-packages/rospy"):  # on the machine, out of this venv's sight
+        assert "'make ros' makes .venv-ros" in run.err and ".venv-ros/bin/baxterface" in run.err
+    else:
+        assert "ROS 1 is not installed" in run.err and "apt-get install" in run.err

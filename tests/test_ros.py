@@ -319,13 +319,109 @@ def test_send_checks_first_and_needs_a_listener(ros, node):
 
 
 def test_queued_scripts_play_after_the_current_one(ros, node):
+    import rospy
+    from std_msgs.msg import String
+
     proc, state = node
-    run = lambda *a: baxterface("send", *a, env=ros)  # noqa: E731
-    assert run("look 40 0 in 2s").code == 0
-    assert run("--queue", "skin 0").code == 0
+    now = rospy.Publisher("/display_chatter", String, queue_size=10)
+    later = rospy.Publisher("/baxter_face/queue", String, queue_size=10)
+    wait_for_listeners(now, later)
+    # Published from here, not by starting `send` twice, so nothing slow sits
+    # between the two: the second message comes while the first is playing.
+    now.publish(String("look 40 0 in 3s"))
+    report(state, test=lambda r: r["playing"] and r["eye_x"] > 0)
+    later.publish(String("skin 0"))
     first = report(state, test=lambda r: r["queued"] == 1)
-    assert first["skin"] != 0
-    assert report(state, test=lambda r: r["skin"] == 0 and r["queued"] == 0, timeout=10)["eye_x"] == 40.0
+    assert first["skin"] != 0 and first["eye_x"] < 40
+    assert report(state, test=lambda r: r["skin"] == 0 and r["queued"] == 0, timeout=15)["eye_x"] == 40.0
+    now.unregister()
+    later.unregister()
+
+
+def test_send_queue_reaches_the_queue_topic(ros, node):
+    proc, state = node
+    assert baxterface("send", "--queue", "skin 4", env=ros).code == 0
+    report(state, test=lambda r: r["skin"] == 4)
+
+
+def wait_for_listeners(*publishers, timeout=15.0):
+    deadline = time.monotonic() + timeout
+    while any(p.get_num_connections() == 0 for p in publishers):
+        assert time.monotonic() < deadline, "nothing subscribed"
+        time.sleep(0.02)
+
+
+def test_state_says_the_emotion_shown_now_not_the_scripts_last(ros, node):
+    proc, state = node
+    rostopic_pub(ros, "happy; wait 6; sad; wait 6; angry")
+    shown = report(state, test=lambda r: r["playing"] and r["emotion"] != "sleep")
+    assert shown["emotion"] == "happy"
+    seen = len(state.messages)
+    assert report(state, after=seen, test=lambda r: r["emotion"] != "happy", timeout=20)["emotion"] == "sad"
+
+
+def head_commands_from(ros, run):
+    """The head pan commands a run sends, each as (seconds after the first, target, speed)."""
+    from baxterface_cli.ros.messages import message_class
+
+    pan = Topic("/robot/head/command_head_pan", message_class("HeadPanCommand"))
+    time.sleep(0.5)
+    run()
+    pan.wait_for(lambda m: abs(m.target + 0.4) < 1e-6, timeout=20)
+    pan.close()
+    first = pan.messages[0][0]
+    # A command repeated while the head is on its way is the same command.
+    distinct = []
+    for at, m in pan.messages:
+        if not distinct or (round(m.target, 4), round(m.speed_ratio, 4)) != distinct[-1][1:]:
+            distinct.append((at - first, round(m.target, 4), round(m.speed_ratio, 4)))
+    return distinct
+
+
+SCRIPT_FOR_THE_HEAD = "wobble 0.5 in 2s; wait 0.5; wobble -0.4 in 0.3s"
+
+
+def test_node_and_stream_send_the_same_head_commands_at_the_same_times(ros):
+    from std_msgs.msg import String
+
+    # No head answers here, so each keeps asking for its last pan: one at a time.
+    from_stream = head_commands_from(
+        ros, lambda: baxterface("stream", "--no-idle", "-e", SCRIPT_FOR_THE_HEAD, env=ros)
+    )
+    state = Topic("/baxter_face/state", String)
+    proc = start_node(ros)
+    try:
+        state.wait_for(timeout=30)
+        from_node = head_commands_from(ros, lambda: rostopic_pub(ros, SCRIPT_FOR_THE_HEAD))
+    finally:
+        proc.send_signal(signal.SIGTERM)
+        proc.wait(timeout=20)
+        state.close()
+    assert [c[1:] for c in from_node] == [c[1:] for c in from_stream] == [(0.5, 0.25), (-0.4, 1.0)]
+    # 2.5 s apart in both, within a frame or two of scheduling
+    for commands in (from_node, from_stream):
+        assert commands[1][0] == pytest.approx(2.5, abs=0.1)
+
+
+def test_stream_does_not_turn_the_head_of_a_disabled_robot(ros):
+    import rospy
+
+    from baxterface_cli.ros.messages import message_class
+
+    AssemblyState = message_class("AssemblyState")
+    robot = rospy.Publisher("/robot/state", AssemblyState, latch=True, queue_size=1)
+    robot.publish(AssemblyState(enabled=False))
+    pan = Topic("/robot/head/command_head_pan", message_class("HeadPanCommand"))
+    try:
+        run = baxterface("stream", "--no-idle", "-e", "wait 0.5; wobble 0.5 in 0.2s", env=ros)
+        assert run.code == 0, run.err
+        assert pan.messages == []
+        assert "the robot is disabled: not turning the head to 0.50 rad" in run.err
+    finally:
+        robot.publish(AssemblyState(enabled=True))
+        time.sleep(0.3)
+        robot.unregister()
+        pan.close()
 
 
 @pytest.mark.parametrize("robot, topic", [("baxter", "/robot/xdisplay"), ("sawyer", "/robot/head_display")])
