@@ -12,13 +12,12 @@ from __future__ import annotations
 
 import json
 import math
-import queue
 import signal
 import threading
 import time
-from typing import Any, List, Tuple
+from typing import Any, List
 
-from ..diagnostics import ScriptError
+from ..intake import Intake
 from ..live import LiveFace, sleep_face
 from ..renderer import Renderer, pose
 from ..state import FaceState
@@ -31,6 +30,7 @@ STATE_EVERY = 0.1  # seconds between ~state messages while the face moves
 # After a command, the next frame comes this soon rather than at the next
 # tick: a move that starts now shows its first motion within ~10 ms.
 FIRST_MOTION = 0.010
+MASTER_CHECK = 1.0  # seconds between checks that the master still knows this node
 DISPLAY_TOPICS = {"baxter": "/robot/xdisplay", "sawyer": "/robot/head_display"}
 
 
@@ -70,9 +70,9 @@ class FaceNode:
         self.state_pub = rospy.Publisher("~state", String, latch=True, queue_size=1)
         self.robot = connect_robot(rospy)
 
-        self.inbox: queue.Queue[Tuple[str, bool]] = queue.Queue()
         self.wake = threading.Event()
         self.stop = threading.Event()
+        self.intake = Intake(self.live, time.monotonic, ready=self.wake.set)
         self.last_key: Any = None
         self.last_frame_at = -math.inf
         self.last_state_text = ""
@@ -97,8 +97,9 @@ class FaceNode:
     # -- callbacks: hand over and wake the loop, nothing else
 
     def _heard(self, msg: Any, queued: bool) -> None:
-        self.inbox.put((msg.data, queued))
-        self.wake.set()
+        refusal = self.intake.submit(msg.data, queued)  # parsed off the frame loop
+        if refusal:
+            self.rospy.logwarn(refusal)
 
     def _sonar_cloud(self, msg: Any) -> None:
         """Check a sonar cloud and hand its (ids, distances) over; skip it, warning, if malformed."""
@@ -127,6 +128,7 @@ class FaceNode:
         self.rospy.loginfo(
             "baxterface face node: listening on %s", self.rospy.resolve_name("display_chatter")
         )
+        threading.Thread(target=self._watch_master, name="baxterface-master", daemon=True).start()
         period = 1.0 / self.fps
         next_tick = time.monotonic()
         while not self.stop.is_set() and not self.rospy.is_shutdown():
@@ -155,25 +157,32 @@ class FaceNode:
                 next_tick = min(next_tick, now + FIRST_MOTION)
             self.wake.wait(max(0.0, next_tick - time.monotonic()))  # or until a command comes
             self.wake.clear()
+        self.intake.close()
         self.rospy.signal_shutdown("face node finished")
         return 0
 
+    # -- the master
+
+    def _watch_master(self) -> None:
+        """Register again with a master that no longer knows this node (it was restarted)."""
+        import rosgraph
+
+        master = rosgraph.Master(self.rospy.get_name())
+        while not self.stop.wait(MASTER_CHECK):
+            try:
+                master.lookupNode(self.rospy.get_name())
+            except rosgraph.MasterError:  # up, but it has never heard of us: a new master
+                self.rospy.loginfo("the ROS master was restarted: registering again")
+                register_again()
+            except Exception:
+                pass  # down: rospy's own calls will fail until it is back
+
     def _take_commands(self, now: float) -> bool:
-        """Start or queue every command that came; True if any did."""
-        took = False
-        while True:
-            try:
-                text, queued = self.inbox.get_nowait()
-            except queue.Empty:
-                return took
-            try:
-                self.live.command(text, now, queue=queued)
-                self.last_state_at = -math.inf  # report the new command at once
-                took = True
-            except ScriptError as e:
-                self.rospy.logerr("bad command on display_chatter:\n%s", e.render())
-            except Exception as e:  # never let one message stop the face
-                self.rospy.logerr("could not run a command: %r", e)
+        """Start or queue what the intake has ready; True if something started now."""
+        took = self.intake.hand_over(now, warn=self.rospy.logwarn, error=self.rospy.logerr)
+        if took is not None:
+            self.last_state_at = -math.inf  # report the change at once
+        return bool(took)
 
     def _publish_frame(self, state: FaceState, now: float, force: bool = False) -> None:
         at = pose(self.renderer.layers, state)
@@ -209,6 +218,28 @@ class FaceNode:
             self.state_pub.publish(self.String(text))
             self.last_state_text = text
         self.last_state_at = now
+
+
+def register_again() -> None:
+    """Tell the (new) master every topic and service this process has, as rospy does at start."""
+    from rospy.impl.registration import (
+        Registration,
+        RegManager,
+        get_registration_listeners,
+        get_service_manager,
+        get_topic_manager,
+    )
+
+    managers = [m for m in get_registration_listeners().listeners if isinstance(m, RegManager)]
+    if not managers:
+        return
+    manager = managers[0]
+    for name, kind in get_topic_manager().get_publications():
+        manager.reg_added(name, kind, Registration.PUB)
+    for name, kind in get_topic_manager().get_subscriptions():
+        manager.reg_added(name, kind, Registration.SUB)
+    for name, uri in get_service_manager().get_services():
+        manager.reg_added(name, uri, Registration.SRV)
 
 
 def run_node(argv: List[str]) -> int:
