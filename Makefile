@@ -79,6 +79,7 @@ bench: venv venv-ros
 	$(BIN)/python bench/bench_playback.py
 	$(VENV_ROS)/bin/python bench/bench_node.py
 	$(BIN)/python bench/bench_follow.py
+	$(BIN)/python bench/bench_check.py
 
 # Plays in a window where there is a display, else in this terminal.
 play: venv
