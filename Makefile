@@ -79,6 +79,7 @@ bench: venv venv-ros
 	$(BIN)/python bench/bench_playback.py
 	$(VENV_ROS)/bin/python bench/bench_node.py
 	$(BIN)/python bench/bench_follow.py
+	$(BIN)/python bench/bench_check.py
 
 # A ROS-ready environment: installs ROS from Debian, then .venv-ros sees it.
 ros: venv-ros

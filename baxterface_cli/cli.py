@@ -11,7 +11,7 @@ from typing import List, Optional
 import typer
 
 from . import __version__
-from .diagnostics import ScriptError
+from .diagnostics import ScriptError, render_all
 from .nodes import Script, to_json
 from .parser import parse, parse_file
 from .theme import Theme, ThemeError, parse_size
@@ -73,9 +73,14 @@ def script_from(path: Optional[str], inline: Optional[str], command: str) -> Scr
             script = load_script(path or "-")
     except ScriptError as e:
         raise fail(e.render()) from None
-    for warning in script.warnings:
-        typer.echo(warning.render(script.filename, script.source), err=True)
+    echo_warnings(script)
     return script
+
+
+def echo_warnings(script: Script) -> None:
+    if script.warnings:
+        text = render_all(script.warnings, script.filename, script.source, more_warnings=script.more_warnings)
+        typer.echo(text, err=True)
 
 
 def fitted_theme(theme: Optional[str], size: Optional[str]):
@@ -479,8 +484,7 @@ def check(
             typer.echo(e.render(), err=True)
             failed = True
             continue
-        for warning in script.warnings:
-            typer.echo(warning.render(script.filename, script.source), err=True)
+        echo_warnings(script)
         if ast:
             typer.echo(json.dumps(to_json(script), indent=2, sort_keys=True))
     if failed:

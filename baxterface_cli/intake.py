@@ -90,7 +90,7 @@ class Intake:
         changed: Optional[bool] = None
         for prepared in self.take():
             if prepared.error is not None:
-                error(f"bad command: {one_line(prepared.error)}")
+                error(f"bad command: {prepared.error.summary()}")
                 continue
             if prepared.queued and prepared.generation < self.generation:
                 continue  # a take-over came after it and cleared the queue
@@ -150,9 +150,3 @@ class Intake:
         except IndexError:  # the loop emptied the queue meanwhile
             return self.live.base_state(self.clock())
 
-
-def one_line(error: ScriptError) -> str:
-    """A bad command in one log line: its first problem, and how many more."""
-    first = error.diagnostics[0]
-    more = len(error.diagnostics) - 1
-    return first.render(error.filename) + (f" (and {more} more problems)" if more else "")

@@ -181,6 +181,8 @@ class Script:
     # Written wholly in the old node's commands (`happy`, `look_40_-20_0.5`):
     # played the way the old node played them, with hard cuts.
     legacy: bool = field(default=False, compare=False)
+    # Warnings beyond the first few (see `Limits.max_shown`): only counted.
+    more_warnings: int = field(default=0, compare=False, repr=False)
 
     @property
     def definitions(self) -> Dict[str, Define]:
@@ -198,7 +200,7 @@ def to_json(node: Any) -> Any:
         return node
     out: Dict[str, Any] = {"type": type(node).__name__}
     for f in dataclasses.fields(node):
-        if f.name in ("pos", "warnings", "source", "legacy"):
+        if f.name in ("pos", "warnings", "source", "legacy", "more_warnings"):
             continue
         out[f.name] = to_json(getattr(node, f.name))
     pos = getattr(node, "pos", None)

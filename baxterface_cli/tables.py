@@ -110,10 +110,15 @@ class Limits(NamedTuple):
     """Bounds that keep any script cheap to check, compile and play."""
 
     max_bytes: int = 256 * 1024  # a script's text
-    max_depth: int = 32  # nested { } blocks
+    max_depth: int = 32  # nested { } blocks, as written
+    # Blocks and calls nested through definitions, as compiling recurses: at
+    # about four Python frames a level, 64 stays under a third of Python's
+    # default recursion limit of 1000.
+    max_nesting: int = 64
     max_repeat: int = 10_000  # one repeat's count
     max_seconds: float = 3600.0  # a script's total length
     max_steps: int = 100_000  # statements once repeats and definitions unroll
+    max_shown: int = 50  # diagnostics kept and printed; the rest are only counted
 
 
 LIMITS = Limits()
