@@ -75,6 +75,39 @@ def latencies(rospy, String, frames, commands=("skin_3", "skin_1"), count=120, g
     return out
 
 
+def rss_mb(pid: int) -> float:
+    for line in Path(f"/proc/{pid}/status").read_text().splitlines():
+        if line.startswith("VmRSS:"):
+            return int(line.split()[1]) / 1024
+    return 0.0
+
+
+def flood_figures(node, chatter, String, frames, seconds=10.0):
+    """A flood of good, bad and maximum-size commands while the eyes move; then SIGTERM under load."""
+    moving = "repeat 100 { look 60 0 in 1s; look -60 0 in 1s }"
+    line = "look 40 -20 in 0.05s; look -40 20 in 0.05s\n"
+    huge = line * (250 * 1024 // len(line))
+    mixed = [moving, "hapy", "a\n" * 100_000, huge, "look_a_b", "x" * 300_000]
+    chatter.publish(String(moving))
+    time.sleep(1.0)
+    before, start, sent = rss_mb(node.pid), len(frames.times), 0
+    began = time.monotonic()
+    while time.monotonic() - began < seconds:
+        chatter.publish(String(mixed[sent % len(mixed)]))
+        sent += 1
+        time.sleep(0.002)
+    spent = time.monotonic() - began
+    times = frames.times[start:]
+    gap = max((b - a for a, b in zip(times, times[1:])), default=float("inf"))
+    after = rss_mb(node.pid)
+    for _ in range(20):
+        chatter.publish(String(huge))
+    stop = time.monotonic()
+    node.send_signal(signal.SIGTERM)
+    node.wait()
+    return sent / spent, gap * 1000, before, after, time.monotonic() - stop
+
+
 def cpu_seconds(pid: int) -> float:
     fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
     return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
@@ -127,8 +160,7 @@ def main() -> None:
         time.sleep(6.0)
         window = [t for t in frames.times[start:]]
         look_fps = (len(window) - 1) / (window[-1] - window[0]) if len(window) > 1 else 0.0
-        node.send_signal(signal.SIGTERM)
-        node.wait()
+        flood = flood_figures(node, chatter, String, frames)
 
         idle = subprocess.Popen(
             [sys.executable, "-m", "baxterface_cli", "node", "_idle:=true"], cwd=str(ROOT), env=env
@@ -167,6 +199,12 @@ def main() -> None:
             f"({len(values)} answered)"
         )
     print(f"30 fps look animation reaching a subscriber: {look_fps:.1f} frames/s")
+    rate, gap, before, after, exit_s = flood
+    print(f"flood of good, bad and 256 KiB commands for 10 s: {rate:.0f} commands/s absorbed")
+    print(
+        f"  largest gap between frames {gap:.0f} ms; node memory {before:.0f} MB before, {after:.0f} MB after"
+    )
+    print(f"  SIGTERM with 20 maximum-size commands pending: exited in {exit_s:.2f} s")
     print(
         f"idle face over {spent:.0f} s: {len(stamps)} frames, {quiet_rate:.2f} frames/s between blinks, "
         f"node CPU {cpu:.1f} % of a core"

@@ -9,6 +9,8 @@ from __future__ import annotations
 import json
 import os
 import random
+import shlex
+import shutil
 import signal
 import socket
 import struct
@@ -742,3 +744,60 @@ def test_a_restarted_master_gets_a_working_face_again(tmp_path):
         core.wait(timeout=30)
     assert b"the ROS master was restarted: registering again" in out
     del String
+
+
+def ros_console_examples():
+    from test_docs import ELSEWHERE, console_examples
+
+    return [e for e in console_examples() if e[1].startswith(ELSEWHERE) and not e[1].startswith("make ")]
+
+
+@pytest.mark.parametrize("doc, command, expected", ros_console_examples(), ids=lambda v: str(v)[:60])
+def test_ros_console_examples_do_what_the_docs_show(ros, doc, command, expected, tmp_path):
+    """Each ROS command of the docs, run against a real master; long-running ones until they answer."""
+    from std_msgs.msg import String
+    from test_docs import doc_env, matches
+
+    env = dict(doc_env(), **{k: ros[k] for k in ("ROS_MASTER_URI", "ROS_IP", "ROS_HOME")})
+    env["ROS_PACKAGE_PATH"] = str(ROOT / "ros")
+    subprocess.run(["baxterface", "theme", "export", str(tmp_path / "my-theme")], env=env, check=True)
+    shutil.copytree(ROOT / "scripts_examples", tmp_path / "scripts_examples")
+    state = Topic("/baxter_face/state", String)
+    starts_a_node = command.startswith(("baxterface node", "roslaunch "))
+    face = None if starts_a_node else start_node(ros)
+    try:
+        if face is not None:
+            state.wait_for(timeout=30)
+            rostopic_pub(ros, "happy")
+            report(state, test=lambda r: r["emotion"] == "happy")
+        if starts_a_node:  # runs until stopped: it must come up and answer
+            proc = subprocess.Popen(shlex.split(command), cwd=str(tmp_path), env=env)
+            try:
+                state.wait_for(timeout=90)
+                proc.send_signal(signal.SIGINT)
+                assert proc.wait(timeout=60) == 0
+            finally:
+                if proc.poll() is None:  # never leave one behind for the next example
+                    proc.kill()
+                    proc.wait()
+            return
+        run = subprocess.run(
+            command, shell=True, cwd=str(tmp_path), env=env, capture_output=True, text=True, timeout=120
+        )
+        printed = (run.stdout + run.stderr).strip("\n").splitlines()
+        printed = [line for line in printed if not line.startswith("[")]  # rospy's own log lines
+        if command.startswith("rostopic echo"):  # a live face: the same fields, whatever their values
+            import yaml
+
+            shown = json.loads(yaml.safe_load("\n".join(expected))["data"])
+            assert set(json.loads(yaml.safe_load(run.stdout.split("---")[0])["data"])) == set(shown)
+        else:
+            failed = any(": error:" in line or line.startswith("baxterface ") for line in expected)
+            assert run.returncode == (1 if failed else 0), run.stderr
+            assert matches(expected, printed), printed
+    finally:
+        state.close()
+        if face is not None:
+            face.send_signal(signal.SIGTERM)
+            face.wait(timeout=20)
+        forget_parameters(ros)
