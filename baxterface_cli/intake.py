@@ -149,4 +149,3 @@ class Intake:
             return self.live.queue_end()
         except IndexError:  # the loop emptied the queue meanwhile
             return self.live.base_state(self.clock())
-
