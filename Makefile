@@ -16,7 +16,7 @@ ROS_PACKAGES := ros-core python3-rospy python3-cv-bridge python3-sensor-msgs pyt
 TEST_PACKAGES := $(ROS_PACKAGES) python3-venv xvfb
 PIP_QUIET := --quiet --disable-pip-version-check
 
-.PHONY: play test lint format golden theme pictures bench system venv venv38 venv-ros clean
+.PHONY: play test lint format golden theme pictures bench system venv venv38 venv-ros ros clean
 
 venv: $(VENV)/.installed
 venv38: $(VENV38)/.installed
@@ -79,6 +79,11 @@ bench: venv venv-ros
 	$(BIN)/python bench/bench_playback.py
 	$(VENV_ROS)/bin/python bench/bench_node.py
 	$(BIN)/python bench/bench_follow.py
+	$(BIN)/python bench/bench_check.py
+
+# A ROS-ready environment: installs ROS from Debian, then .venv-ros sees it.
+ros: venv-ros
+	@echo "ROS is ready: .venv-ros/bin/baxterface node (and send, stream, buttons)"
 
 # Plays in a window where there is a display, else in this terminal.
 play: venv

@@ -6,11 +6,12 @@ tokens are; what needs the whole script happens here.
 
 from __future__ import annotations
 
-from typing import Any, Dict, Iterator, List, Sequence, Set, Tuple
+from typing import Any, Dict, Iterator, List, Optional, Sequence, Set, Tuple
 
 from . import nodes as n
-from .diagnostics import Diagnostic, did_you_mean
-from .tables import EMOTIONS, LIMITS, TIMING
+from .diagnostics import Diagnostic, Hints
+from .durations import statement_seconds
+from .tables import LIMITS
 from .vocabulary import BARE_WORDS, KEYWORDS, LEGACY_USAGE
 
 
@@ -22,6 +23,8 @@ def check(body: Sequence[Any]) -> List[Diagnostic]:
     order = _call_order(definitions, out)
     if order is not None:
         _check_limits(body, definitions, order, out)
+        _check_nesting(body, definitions, order, out)
+        _check_exit(body, definitions, order, out)
     return out
 
 
@@ -72,6 +75,8 @@ def _legacy_command(name: str) -> str:
 
 def _check_calls(body: Sequence[Any], definitions: Dict[str, n.Define], out: List[Diagnostic]) -> None:
     used: Set[str] = set()
+    known = list(BARE_WORDS) + list(KEYWORDS) + list(definitions)
+    hints = Hints()
     for statement in walk(body):
         if not isinstance(statement, n.Call):
             continue
@@ -84,8 +89,7 @@ def _check_calls(body: Sequence[Any], definitions: Dict[str, n.Define], out: Lis
             usage = LEGACY_USAGE[legacy][1]
             _error(out, statement, f"'{name}' is not a valid legacy command; write {usage}, with numbers")
         else:
-            known = list(BARE_WORDS) + list(KEYWORDS) + list(definitions)
-            _error(out, statement, f"unknown command '{name}'{did_you_mean(name, known)}")
+            _error(out, statement, f"unknown command '{name}'{hints(name, known)}")
     for name, definition in definitions.items():
         if name not in used:
             pos = definition.pos
@@ -139,22 +143,6 @@ def _call_order(definitions: Dict[str, n.Define], out: List[Diagnostic]) -> Any:
 # -- length and size -------------------------------------------------------
 
 
-def statement_seconds(statement: Any) -> float:
-    """How long one simple statement takes on the script's clock."""
-    if isinstance(statement, n.Emotion):
-        return EMOTIONS[statement.name].lid_seconds
-    if isinstance(statement, n.Wait):
-        return statement.duration
-    if isinstance(statement, n.Blink):
-        return TIMING.blink_close + TIMING.blink_open
-    if isinstance(statement, n.Nod):
-        return TIMING.nod
-    default = {n.Look: TIMING.look, n.Wobble: TIMING.wobble, n.Eyelids: TIMING.eyelids}.get(type(statement))
-    if default is not None:
-        return default if statement.duration is None else statement.duration
-    return 0.0
-
-
 Measure = Tuple[float, int]  # (seconds, steps once unrolled)
 
 
@@ -205,6 +193,79 @@ def _check_limits(
                 out, statement, f"the script unrolls to {total_steps} steps; the limit is {LIMITS.max_steps}"
             )
             return
+
+
+# -- nesting and exit ------------------------------------------------------
+
+
+def _check_nesting(
+    body: Sequence[Any], definitions: Dict[str, n.Define], order: List[str], out: List[Diagnostic]
+) -> None:
+    """Bound how deep blocks and calls nest through definitions: compiling recurses that deep."""
+    height: Dict[str, int] = {}  # the depth a definition's body reaches, its call at depth 0
+    for name in order:
+        height[name] = _reach(definitions[name].body, 1, height)
+    for statement in body:
+        depth = _reach((statement,), 0, height)
+        if depth > LIMITS.max_nesting:
+            _error(
+                out,
+                statement,
+                f"blocks and calls nest {depth} levels deep here, counting each call into a definition; "
+                f"the limit is {LIMITS.max_nesting} levels",
+            )
+
+
+def _reach(body: Sequence[Any], depth: int, height: Dict[str, int]) -> int:
+    """The deepest level `body`'s statements reach, they being at `depth`."""
+    deepest = 0
+    stack = [(statement, depth) for statement in body]
+    while stack:
+        statement, level = stack.pop()
+        if isinstance(statement, n.Define):  # defines nothing to run here
+            continue
+        if isinstance(statement, n.Call):
+            level += height.get(statement.name, 0)
+        elif isinstance(statement, n.BLOCKS):
+            stack.extend((child, level + 1) for child in statement.body)
+        deepest = max(deepest, level)
+    return deepest
+
+
+def _check_exit(
+    body: Sequence[Any], definitions: Dict[str, n.Define], order: List[str], out: List[Diagnostic]
+) -> None:
+    """Warn at what never runs because an 'exit' before it ends the script."""
+    ends: Dict[str, int] = {}  # a definition whose body exits: the line of that 'exit'
+    for name in order:
+        line = _exit_line(definitions[name].body, ends, out)
+        if line is not None:
+            ends[name] = line
+    _exit_line(body, ends, out)
+
+
+def _exit_line(body: Sequence[Any], ends: Dict[str, int], out: List[Diagnostic]) -> Optional[int]:
+    """The line of the 'exit' that ends the script within `body`, if one does.
+
+    A `together` counts as a sequence: its children are compiled one after
+    another, and nothing is compiled after an exit.
+    """
+    ended: Optional[int] = None
+    for statement in body:
+        if isinstance(statement, n.Define):
+            continue
+        if ended is not None:
+            pos = statement.pos
+            message = f"never runs: 'exit' on line {ended} ends the script"
+            out.append(Diagnostic(pos.line, pos.column, message, "warning"))
+            return ended
+        if isinstance(statement, n.Exit):
+            ended = statement.pos.line
+        elif isinstance(statement, n.Call):
+            ended = ends.get(statement.name)
+        elif isinstance(statement, (n.Repeat, n.Together)):
+            ended = _exit_line(statement.body, ends, out)
+    return ended
 
 
 def _duration(seconds: float) -> str:

@@ -11,7 +11,7 @@ from typing import List, Optional
 import typer
 
 from . import __version__
-from .diagnostics import ScriptError
+from .diagnostics import ScriptError, render_all
 from .nodes import Script, to_json
 from .parser import parse, parse_file
 from .theme import Theme, ThemeError, parse_size
@@ -73,9 +73,14 @@ def script_from(path: Optional[str], inline: Optional[str], command: str) -> Scr
             script = load_script(path or "-")
     except ScriptError as e:
         raise fail(e.render()) from None
-    for warning in script.warnings:
-        typer.echo(warning.render(script.filename, script.source), err=True)
+    echo_warnings(script)
     return script
+
+
+def echo_warnings(script: Script) -> None:
+    if script.warnings:
+        text = render_all(script.warnings, script.filename, script.source, more_warnings=script.more_warnings)
+        typer.echo(text, err=True)
 
 
 def fitted_theme(theme: Optional[str], size: Optional[str]):
@@ -208,6 +213,7 @@ def explain(
     With --json, print one record per frame with the whole face state (skin,
     mouth, brows, eyes, eyelids, head pan, crossfade) and the robot's status.
     """
+    from .effects import EffectWords
     from .timeline import state_record
 
     script = script_from(script_path, inline, "explain")
@@ -218,20 +224,19 @@ def explain(
             typer.echo(json.dumps(state_record(t, animation.sample(t), timeline.status(t)), sort_keys=True))
         return
     typer.echo(f"{script.filename}: {timeline.duration:.2f} s")
+
+    def row(start: float, end: float, what: str) -> None:
+        when = f"{start:6.2f} s" if end == start else f"{start:6.2f} - {end:6.2f} s"
+        typer.echo(f"  {when:<19} {what}")
+
     for span in timeline.spans:
-        when = f"{span.start:6.2f} s" if span.end == span.start else f"{span.start:6.2f} - {span.end:6.2f} s"
-        typer.echo(f"  {when:<19} line {span.line:<4} {span.text}")
+        row(span.start, span.end, f"line {span.line:<4} {span.text}")
     for change in timeline.parts:
         p = change.parts
-        typer.echo(f"  {change.at:6.2f} s{'':<12} face  skin {p.skin}, mouth {p.mouth}, brows {p.brows}")
-    for action in timeline.actions:
-        detail = {"head": f"head pan to {action.value:+.2f} rad over {action.duration:g} s"}.get(
-            action.kind, action.kind
-        )
-        if action.kind == "follow":
-            target, dynamic = action.value
-            detail = f"follow {target or 'off'}" + (" dynamic" if dynamic else "")
-        typer.echo(f"  {action.at:6.2f} s{'':<12} robot {detail}")
+        row(change.at, change.at, f"face  skin {p.skin}, mouth {p.mouth}, brows {p.brows}")
+    words = EffectWords()
+    for cue in timeline.cues:
+        row(cue.at, cue.at, f"robot {cue.effect.visit(words, cue.at)}")
 
 
 @app.command()
@@ -280,15 +285,20 @@ def play(
     screen = WindowScreen() if window else TerminalScreen()
     player = Player(animation, renderer, screen, fps)
     poll = _watcher(script_path, seed, idle, crossfade, player) if watch else None
-    played = 0.0
+    interrupted = False
     try:
-        played = player.run(loop=loop, hold=watch, poll=poll)
+        player.run(loop=loop, hold=watch, poll=poll)
     except KeyboardInterrupt:
-        pass
+        interrupted = True
     finally:
         screen.close()
-    summary = f"played {player.animation.duration:.2f} s of script in {played:.2f} s"
-    typer.echo(f"{summary}: {player.frames_shown} frames ({screen.name})", err=True)
+    shown = f"{player.frames_shown} frames ({screen.name})"
+    length = player.animation.duration
+    if interrupted:  # the shell's convention: 128 + SIGINT
+        where = f"{player.position:.2f} s of {length:.2f} s of script"
+        typer.echo(f"interrupted at {where}, after {player.elapsed():.2f} s: {shown}", err=True)
+        raise typer.Exit(130)
+    typer.echo(f"played {length:.2f} s of script in {player.elapsed():.2f} s: {shown}", err=True)
 
 
 ROS_ARGS = {"allow_extra_args": True, "ignore_unknown_options": True}
@@ -484,8 +494,7 @@ def check(
             typer.echo(e.render(), err=True)
             failed = True
             continue
-        for warning in script.warnings:
-            typer.echo(warning.render(script.filename, script.source), err=True)
+        echo_warnings(script)
         if ast:
             typer.echo(json.dumps(to_json(script), indent=2, sort_keys=True))
     if failed:

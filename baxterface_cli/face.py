@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 import random
 from pathlib import Path
-from typing import List, Optional, Tuple, Union
+from typing import Optional, Tuple, Union
 
 import numpy as np
 from PIL import Image
@@ -25,16 +25,10 @@ from .tables import BROWS, EMOTIONS, MOUTHS, SKINS
 from .theme import Theme, check_size, resolve
 
 
-def emotion_variants(name: str) -> List[Tuple[str, str]]:
-    """The (mouth, brows) pairs an emotion can pick from, in table order."""
-    spec = EMOTIONS[name]
-    return [(m, b) for m in spec.mouths for b in spec.brows]
-
-
 def emotion_state(state: FaceState, name: str, variant: int) -> FaceState:
     """`state` showing emotion `name` with its `variant`-th (mouth, brows) pair."""
     spec = EMOTIONS[name]
-    mouth, brows = emotion_variants(name)[variant]
+    mouth, brows = spec.variants[variant]
     return state.replace(skin=spec.skin, mouth=mouth, brows=brows, eyelids=spec.eyelids, fade_from=None)
 
 
@@ -96,7 +90,7 @@ class Face:
     ) -> None:
         """Show an emotion (or "sleep", "wake up"); `variant` picks its mouth and brows, else `rng` does."""
         key = _check(name.replace("_", " "), tuple(EMOTIONS), "emotion")
-        choices = emotion_variants(key)
+        choices = EMOTIONS[key].variants
         if variant is None:
             variant = (rng or random).randrange(len(choices))
         if not 0 <= variant < len(choices):

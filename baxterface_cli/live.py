@@ -3,34 +3,50 @@
 The face node is this plus ROS. Each command is parsed and compiled by the
 same engine as `play` and `render`, starting from the face as it is at that
 moment; it takes over from whatever was playing (or waits its turn, when
-queued). Idle blinks go on between and after commands. Robot actions (head,
-nod, enable, follow, exit) fall due as time passes and are handed out once.
+queued). Idle blinks go on between and after commands. Robot effects (head,
+nod, enable, follow, exit) fall due as time passes and are handed out once;
+the robot's status (following, exited) carries over from script to script.
 """
 
 from __future__ import annotations
 
 import random
 from collections import deque
-from typing import Deque, List, Optional, Tuple
+from typing import Deque, List, Optional
 
+from .effects import Cue, RobotStatus, StatusFold
 from .idle import Idle
 from .nodes import Script
 from .parser import parse
 from .state import FaceState
 from .tables import EMOTIONS
-from .timeline import Action, Timeline, compile_script
+from .timeline import Timeline, compile_script
 
 IDLE_AHEAD = 30.0  # seconds of idle blinks planned ahead of the clock
+MAX_QUEUE = 32  # scripts waiting their turn; more are refused
 
 
 def sleep_face() -> FaceState:
     """The face the original node started with and ended on."""
     spec = EMOTIONS["sleep"]
-    return FaceState(skin=spec.skin, mouth=spec.mouths[0], brows=spec.brows[0], eyelids=spec.eyelids)
+    return FaceState(
+        skin=spec.skin, mouth=spec.mouths[0], brows=spec.brows[0], eyelids=spec.eyelids, emotion="sleep"
+    )
+
+
+class QueueFull(Exception):
+    """A queued script was refused: the queue holds as many as it may."""
 
 
 class LiveFace:
-    """Commands in, face states and robot actions out, on a clock the caller gives."""
+    """Commands in, face states and robot effects out, on a clock the caller gives.
+
+    `command` parses, compiles and starts (or queues) a script in one call.
+    A caller that must not wait (the node's frame loop) splits it: `prepare`
+    parses and compiles, from any thread, and `begin` or `enqueue` hands the
+    result over, which is cheap. Queued timelines start from the face as the
+    one before them leaves it, so they are compiled exactly ahead of time.
+    """
 
     def __init__(
         self,
@@ -38,14 +54,14 @@ class LiveFace:
         idle: bool = True,
         seed: Optional[int] = None,
         now: float = 0.0,
+        max_queue: int = MAX_QUEUE,
     ) -> None:
         self.rng = random.Random(seed)
         self.idle_on = idle
-        self.queue: Deque[Tuple[Script, float]] = deque()
-        self.following: Tuple[Optional[str], bool] = (None, False)
-        self.emotion: Optional[str] = None
-        self.exited = False
-        self._begin(parse(""), start or FaceState(), now)
+        self.max_queue = max_queue
+        self.queue: Deque[Timeline] = deque()
+        self._robot = StatusFold()
+        self.begin(compile_script(parse(""), start=start or FaceState()), now)
 
     # -- commands
 
@@ -54,54 +70,84 @@ class LiveFace:
     ) -> Script:
         """Run `text` from now (or after what is playing, with `queue`); ScriptError if it is bad."""
         script = parse(text, filename)
-        if queue and not self.finished(now):
-            self.queue.append((script, now))
+        queued = queue and not self.finished(now)
+        timeline = self.prepare(script, self.queue_end() if queued else self.base_state(now))
+        if queued:
+            self.enqueue(timeline)
         else:
-            self.queue.clear()
-            self._begin(script, self.base_state(now), now)
+            self.begin(timeline, now)
         return script
 
-    def _begin(self, script: Script, start: FaceState, now: float) -> None:
-        self.timeline: Timeline = compile_script(script, seed=self.rng.randrange(2**32), start=start)
-        self.started = now
-        self.pending: List[Action] = list(self.timeline.actions)
-        self.idle = (
-            Idle(self.timeline, seed=self.rng.randrange(2**32), until=IDLE_AHEAD) if self.idle_on else None
-        )
-        names = [s.text for s in self.timeline.spans if s.text in EMOTIONS]
-        if names:
-            self.emotion = names[-1]
+    def prepare(self, script: Script, start: FaceState) -> Timeline:
+        """Compile `script` to start from `start`; safe from another thread."""
+        return compile_script(script, seed=self.rng.randrange(2**32), start=start)
+
+    def begin(self, timeline: Timeline, now: float) -> None:
+        """Play `timeline` from `now`, dropping what was playing and what was queued."""
+        self.queue.clear()
+        self._start(timeline, now)
+
+    def enqueue(self, timeline: Timeline) -> None:
+        """Play `timeline` after what is playing and queued; QueueFull if the queue is full."""
+        if len(self.queue) >= self.max_queue:
+            raise QueueFull(f"the queue is full ({self.max_queue} scripts)")
+        self.queue.append(timeline)
+
+    def queue_end(self) -> FaceState:
+        """The face as the last queued script (or the one playing) will leave it."""
+        last = self.queue[-1] if self.queue else self._playing[0]
+        return last.sample(last.duration)
+
+    def _start(self, timeline: Timeline, now: float) -> None:
+        # One assignment, so a reader on another thread sees the timeline and its start together.
+        self._playing = (timeline, now)
+        self.pending: List[Cue] = list(timeline.cues)
+        self.idle = Idle(timeline, seed=self.rng.randrange(2**32), until=IDLE_AHEAD) if self.idle_on else None
+
+    @property
+    def timeline(self) -> Timeline:
+        return self._playing[0]
+
+    @property
+    def started(self) -> float:
+        return self._playing[1]
 
     def finished(self, now: float) -> bool:
-        return now - self.started >= self.timeline.duration
+        timeline, started = self._playing
+        return now - started >= timeline.duration
 
     # -- the face
 
     def base_state(self, now: float) -> FaceState:
-        """The face the commands make, without idle blinks."""
-        return self.timeline.sample(now - self.started)
+        """The face the commands make, without idle blinks; safe from another thread."""
+        timeline, started = self._playing
+        return timeline.sample(now - started)
 
     def state(self, now: float) -> FaceState:
         """The face to show at `now`: the commands' face with idle life on top."""
         if self.queue and self.finished(now):
-            script, _ = self.queue.popleft()
-            self._begin(script, self.base_state(now), self.started + self.timeline.duration)
+            self._start(self.queue.popleft(), self.started + self.timeline.duration)
         state = self.base_state(now)
         if self.idle is not None:
             t = now - self.started
             self.idle.extend(t + IDLE_AHEAD)  # cheap: it plans only past what it has
-            following = self.following[0] is not None
-            state = self.idle.apply(t, state, darts=not following)
+            state = self.idle.apply(t, state, darts=self.robot.following is None)
         return state
 
-    def due(self, now: float) -> List[Action]:
-        """Robot actions whose time has come since the last call, each handed out once."""
+    @property
+    def robot(self) -> RobotStatus:
+        """The robot's status as the effects handed out so far left it."""
+        return self._robot.status
+
+    @property
+    def exited(self) -> bool:
+        return self.robot.exited
+
+    def due(self, now: float) -> List[Cue]:
+        """Robot effects whose time has come since the last call, each handed out once."""
         t = now - self.started
-        ready = [a for a in self.pending if a.at <= t]
-        self.pending = [a for a in self.pending if a.at > t]
-        for action in ready:
-            if action.kind == "follow":
-                self.following = action.value
-            elif action.kind == "exit":
-                self.exited = True
+        ready = [c for c in self.pending if c.at <= t]
+        self.pending = [c for c in self.pending if c.at > t]
+        for cue in ready:
+            cue.effect.visit(self._robot, cue.at)
         return ready

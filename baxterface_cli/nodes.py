@@ -3,8 +3,9 @@
 Every node carries its source position (line and column, both from 1), but
 positions take no part in equality: `look_40_-20_0.5` and
 `look 40 -20 in 0.5s` are equal nodes because they mean the same thing.
-Durations left to the default are None, so a legacy command and its script
-spelling stay equal whatever the default is.
+A timed move's duration and easing are one `Timing` value; a duration left
+to the default is None, so a legacy command and its script spelling stay
+equal whatever the default is.
 """
 
 from __future__ import annotations
@@ -35,6 +36,18 @@ def _pos() -> Any:
 
 
 @dataclass(frozen=True)
+class Timing:
+    """How a move is timed: `in T` (None leaves the statement's default) and its easing.
+
+    `durations.move_seconds` resolves the default, for the compiler, the
+    checker and `explain` alike.
+    """
+
+    duration: Optional[float] = None
+    easing: str = "linear"
+
+
+@dataclass(frozen=True)
 class Emotion:
     """An emotion, `sleep` or `wake up`: lids first, then skin, mouth and brows."""
 
@@ -48,8 +61,7 @@ class Look:
 
     x: float
     y: float
-    duration: Optional[float] = None
-    easing: str = "linear"
+    timing: Timing = Timing()
     dynamic: bool = False
     pos: Pos = _pos()
 
@@ -70,8 +82,7 @@ class Wobble:
     """Pan the head to `angle` radians."""
 
     angle: float
-    duration: Optional[float] = None
-    easing: str = "linear"
+    timing: Timing = Timing()
     pos: Pos = _pos()
 
 
@@ -118,8 +129,7 @@ class Eyelids:
     """Move the lids to `openness`: 0 closed .. 1 open."""
 
     openness: float
-    duration: Optional[float] = None
-    easing: str = "linear"
+    timing: Timing = Timing()
     pos: Pos = _pos()
 
 
@@ -171,6 +181,8 @@ class Script:
     # Written wholly in the old node's commands (`happy`, `look_40_-20_0.5`):
     # played the way the old node played them, with hard cuts.
     legacy: bool = field(default=False, compare=False)
+    # Warnings beyond the first few (see `Limits.max_shown`): only counted.
+    more_warnings: int = field(default=0, compare=False, repr=False)
 
     @property
     def definitions(self) -> Dict[str, Define]:
@@ -188,7 +200,7 @@ def to_json(node: Any) -> Any:
         return node
     out: Dict[str, Any] = {"type": type(node).__name__}
     for f in dataclasses.fields(node):
-        if f.name in ("pos", "warnings", "source", "legacy"):
+        if f.name in ("pos", "warnings", "source", "legacy", "more_warnings"):
             continue
         out[f.name] = to_json(getattr(node, f.name))
     pos = getattr(node, "pos", None)

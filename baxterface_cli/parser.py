@@ -9,19 +9,21 @@ column. Whole-script checks (definitions, recursion, length) are in
 
 from __future__ import annotations
 
+import bisect
+import itertools
 import math
 import re
 from functools import lru_cache
 from pathlib import Path
-from typing import Any, List, Optional, Tuple, Union
+from typing import Any, Callable, List, Optional, Set, Tuple, Union
 
-from lark import Lark, Token, Transformer, v_args
+from lark import Lark, Token, Transformer, Tree
 from lark.exceptions import UnexpectedCharacters, UnexpectedInput, UnexpectedToken, VisitError
 from lark.lexer import PatternStr
 
 from . import nodes as n
 from .checker import check
-from .diagnostics import Diagnostic, ScriptError, did_you_mean, one_of
+from .diagnostics import Diagnostic, Hints, ScriptError, did_you_mean, keep_first, one_of
 from .easing import EASINGS
 from .geometry import clamp_to_ellipse, inside_ellipse
 from .resources import resource
@@ -36,38 +38,64 @@ _LEGACY_NUMBER = re.compile(r"_([-+]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+))")
 def grammar() -> Lark:
     """The one grammar, built once."""
     text = resource("grammar/face.lark").read_text(encoding="utf-8")
-    return Lark(text, parser="lalr", propagate_positions=True, maybe_placeholders=False)
+    return Lark(text, parser="lalr", maybe_placeholders=False)
 
 
 def parse(text: str, filename: str = "<script>") -> n.Script:
-    """Parse and check a script; raise one ScriptError carrying every diagnostic."""
+    """Parse and check a script; raise one ScriptError carrying the diagnostics.
+
+    At most `LIMITS.max_shown` diagnostics are kept (errors first); the rest
+    are counted, so a flood of problems stays cheap to report.
+    """
     diagnostics: List[Diagnostic] = []
     body: Tuple[Any, ...] = ()
     legacy = False
-    if len(text) > LIMITS.max_bytes:
-        diagnostics.append(
-            Diagnostic(0, 0, f"script is too large ({len(text)} characters; the limit is {LIMITS.max_bytes})")
-        )
+    size = _size(text)
+    if size > LIMITS.max_bytes:
+        message = f"script is too large ({size} bytes; the limit is {LIMITS.max_bytes})"
+        diagnostics.append(Diagnostic(0, 0, message))
     else:
-        diagnostics.extend(_check_braces(text))
-    if not diagnostics:
-        tree = _parse_recovering(text, diagnostics)
-        if tree is not None:
-            try:
-                body = _Builder(diagnostics).transform(tree)
-                legacy = _legacy_spelling(tree)
-            except VisitError as e:  # a bug of ours, not the user's: let it show
-                raise e.orig_exc from e
-            diagnostics.extend(check(body))
-    diagnostics.sort(key=lambda d: (d.line or math.inf, d.column))
-    if any(d.severity == "error" for d in diagnostics):
-        raise ScriptError(diagnostics, filename, text)
-    return n.Script(body, filename, tuple(diagnostics), text, legacy)
+        body, legacy = _build(text, diagnostics)
+    shown, more_errors, more_warnings = keep_first(diagnostics)
+    if more_errors or any(d.severity == "error" for d in shown):
+        raise ScriptError(shown, filename, text, more_errors, more_warnings)
+    return n.Script(body, filename, tuple(shown), text, legacy, more_warnings)
 
 
-def _legacy_spelling(tree: Any) -> bool:
+def _size(text: str) -> int:
+    """The text's size in UTF-8 bytes, encoding it only when that could matter."""
+    if len(text) * 4 <= LIMITS.max_bytes:  # no character takes more than 4 bytes
+        return len(text)
+    return len(text.encode("utf-8", "surrogatepass"))
+
+
+def _build(text: str, diagnostics: List[Diagnostic]) -> Tuple[Tuple[Any, ...], bool]:
+    """The AST and whether it is legacy spelling; every problem goes to `diagnostics`."""
+    braces, closed, virtual = _close_braces(text)
+    diagnostics.extend(braces)
+    if virtual is None:
+        return (), False
+    found: List[Diagnostic] = []
+    statements = _parse_recovering(closed, found)
+    body: Tuple[Any, ...] = ()
+    if statements is not None:
+        builder = _Builder(found, closed, lambda line: _unshifted(line, virtual) or line)
+        try:
+            body = builder.transform(Tree("start", statements))
+        except VisitError as e:  # a bug of ours, not the user's: let it show
+            raise e.orig_exc from e
+    for d in found:
+        line = _unshifted(d.line, virtual) if d.line else 0
+        if line is not None:  # None: on a '}' we added, so the user's text is not at fault
+            diagnostics.append(d._replace(line=line))
+    if statements is None:
+        return (), False
+    diagnostics.extend(check(body))
+    return body, _legacy_spelling(statements)
+
+
+def _legacy_spelling(statements: List[Any]) -> bool:
     """Is every statement one of the old node's commands, as it typed them?"""
-    statements = tree.children
     return bool(statements) and all(
         s.data == "legacy" or (s.data == "word" and str(s.children[0]).lower() in LEGACY_WORDS)
         for s in statements
@@ -111,36 +139,155 @@ def decode(data: bytes, name: str) -> str:
         raise ScriptError([Diagnostic(line, column, message, kind="syntax")], name) from None
 
 
+# -- unclosed blocks ------------------------------------------------------
+
+_BRACES = re.compile(r"[{}]|#[^\n]*")
+
+
+def _close_braces(text: str) -> Tuple[List[Diagnostic], str, Optional[List[int]]]:
+    """Diagnostics for blocks never closed, and the text to parse.
+
+    Each unclosed block is closed by a '}' on a line of its own, added before
+    the next line that is indented no deeper than the block's first line (or
+    at the end), so the rest of the script is still checked. Returns the
+    added lines' numbers in the new text, or None when blocks nest too deeply
+    to parse at all.
+    """
+    opened: List[int] = []
+    for m in _BRACES.finditer(text):
+        if m.group() == "{":
+            opened.append(m.start())
+            if len(opened) > LIMITS.max_depth:
+                message = f"blocks nest too deeply (the limit is {LIMITS.max_depth} levels)"
+                return [_diagnostic_at(text, m.start(), message)], text, None
+        elif m.group() == "}" and opened:
+            opened.pop()
+    if not opened:
+        return [], text, []
+    diagnostics = [_diagnostic_at(text, at, "this '{' is never closed") for at in opened]
+    closed, added = _add_closings(text, set(opened))
+    return diagnostics, closed, added
+
+
+def _add_closings(text: str, unclosed: Set[int]) -> Tuple[str, List[int]]:
+    lines: List[str] = []
+    added: List[int] = []
+    stack: List[Tuple[int, int]] = []  # each open '{': its offset, its line's indentation
+    offset = 0
+    for line in text.split("\n"):
+        code = line.split("#", 1)[0]
+        indent = len(code) - len(code.lstrip())
+        if code.strip():
+            # Only an unclosed block on top can end here: any '}' later
+            # closes a block opened after it.
+            while stack and stack[-1][0] in unclosed and indent <= stack[-1][1]:
+                stack.pop()
+                lines.append("}")
+                added.append(len(lines))
+        lines.append(line)
+        for m in re.finditer("[{}]", code):
+            if m.group() == "{":
+                stack.append((offset + m.start(), indent))
+            elif stack:
+                stack.pop()
+        offset += len(line) + 1
+    for _ in stack:
+        lines.append("}")
+        added.append(len(lines))
+    return "\n".join(lines), added
+
+
+def _unshifted(line: int, added: List[int]) -> Optional[int]:
+    """A line of the text with closings added, as a line of the user's text; None for an added line."""
+    before = bisect.bisect_left(added, line)
+    if before < len(added) and added[before] == line:
+        return None
+    return line - before
+
+
+def _diagnostic_at(text: str, at: int, message: str) -> Diagnostic:
+    line = text.count("\n", 0, at) + 1
+    column = at - (text.rfind("\n", 0, at) + 1) + 1
+    return Diagnostic(line, column, message, kind="syntax")
+
+
 # -- syntax errors ---------------------------------------------------------
 
 _MAX_SYNTAX_ERRORS = 10
-_RECOVERY_BUDGET = 512 * 1024  # characters re-parsed in all, so recovery stays fast
+_RECOVERY_BUDGET = 256 * 1024  # characters re-parsed in all, so recovery stays fast
+_CHUNK = 8 * 1024  # characters parsed at a time, so a syntax error costs one chunk to re-parse
 
 
-def _parse_recovering(text: str, diagnostics: List[Diagnostic]) -> Any:
-    """Parse; after a syntax error, blank the broken statement and go on.
+def _parse_recovering(text: str, diagnostics: List[Diagnostic]) -> Optional[List[Any]]:
+    """The top-level statements' trees; after a syntax error, blank the broken statement and go on.
 
-    Blanking keeps every other character where it was, so later diagnostics
-    point at the user's own text. Returns the tree of the repaired text (its
-    meaning is only used to find more errors), or None if recovery gave up.
+    The text is parsed in chunks of whole top-level statements, each after a
+    filler that keeps lines and columns, so recovering from an error
+    re-parses its chunk, not the whole text. Blanking keeps every other
+    character where it was, so later diagnostics point at the user's own
+    text. Returns None if recovery gave up.
     """
+    statements: List[Any] = []
     budget = _RECOVERY_BUDGET
-    while True:
-        try:
-            tree = grammar().parse(text)
-        except UnexpectedInput as e:
-            diagnostics.append(_syntax_diagnostic(e, text))
-            budget -= len(text)
-            repaired = _blank_statement(text, e)
-            errors = sum(d.kind == "syntax" for d in diagnostics)
-            if errors >= _MAX_SYNTAX_ERRORS:
-                diagnostics.append(Diagnostic(0, 0, f"stopped after {errors} syntax errors", kind="syntax"))
-                return None
-            if repaired is None or budget < len(text):
-                return None
-            text = repaired
-        else:
-            return tree
+    errors = 0
+    for start, end in _chunks(text):
+        chunk = _filler(text, start) + text[start:end]
+        while True:
+            try:
+                tree = grammar().parse(chunk)
+            except UnexpectedInput as e:
+                diagnostics.append(_syntax_diagnostic(e, chunk))
+                errors += 1
+                budget -= (_offset(e) or end) - start
+                if errors >= _MAX_SYNTAX_ERRORS or budget < 0:
+                    diagnostics.append(
+                        Diagnostic(0, 0, f"stopped after {errors} syntax errors", kind="syntax")
+                    )
+                    return None
+                repaired = _blank_statement(chunk, e)
+                if repaired is None:
+                    return None
+                chunk = repaired
+            else:
+                statements.extend(tree.children)
+                break
+    return statements
+
+
+def _chunks(text: str) -> List[Tuple[int, int]]:
+    """Spans of about _CHUNK characters, each ending after a newline outside any block."""
+    spans: List[Tuple[int, int]] = []
+    start = gap = depth = 0
+    for m in itertools.chain(_BRACES.finditer(text), [None]):
+        stop = len(text) if m is None else m.start()
+        while depth == 0:  # [gap, stop) is outside every block
+            cut = text.find("\n", max(gap, start + _CHUNK), stop)
+            if cut < 0:
+                break
+            spans.append((start, cut + 1))
+            start = cut + 1
+        if m is not None:
+            if m.group() == "{":
+                depth += 1
+            elif m.group() == "}":
+                depth = max(0, depth - 1)
+            gap = m.end()
+    if start < len(text) or not spans:
+        spans.append((start, len(text)))
+    return spans
+
+
+def _filler(text: str, start: int) -> str:
+    """As many characters as text[:start], as many newlines, and nothing to parse."""
+    newlines = text.count("\n", 0, start)
+    last = text.rfind("\n", 0, start)
+    return " " * (last + 1 - newlines) + "\n" * newlines + " " * (start - last - 1)
+
+
+def _offset(e: UnexpectedInput) -> Optional[int]:
+    if isinstance(e, UnexpectedCharacters):
+        return e.pos_in_stream
+    return getattr(e.token, "start_pos", None)
 
 
 _SEPARATORS = ";\n{}"
@@ -148,7 +295,7 @@ _SEPARATORS = ";\n{}"
 
 def _blank_statement(text: str, e: UnexpectedInput) -> Optional[str]:
     """`text` with the statement around the error blanked out, or None."""
-    at = e.pos_in_stream if isinstance(e, UnexpectedCharacters) else getattr(e.token, "start_pos", None)
+    at = _offset(e)
     if at is None or at >= len(text):  # the end of the text: nothing after it to save
         return None
     start = max(text.rfind(c, 0, at) for c in _SEPARATORS) + 1
@@ -180,31 +327,6 @@ def _matching_brace(text: str, opening: int) -> int:
             if depth == 0:
                 return i + 1
     return len(text)
-
-
-def _check_braces(text: str) -> List[Diagnostic]:
-    """Unclosed or too deeply nested blocks, found before the parser runs."""
-    opened: List[Tuple[int, int]] = []
-    line, column, in_comment = 1, 0, False
-    for char in text:
-        column += 1
-        if char == "\n":
-            line, column, in_comment = line + 1, 0, False
-        elif in_comment:
-            continue
-        elif char == "#":
-            in_comment = True
-        elif char == "{":
-            opened.append((line, column))
-            if len(opened) > LIMITS.max_depth:
-                message = f"blocks nest too deeply (the limit is {LIMITS.max_depth} levels)"
-                return [Diagnostic(line, column, message, kind="syntax")]
-        elif char == "}" and opened:
-            opened.pop()
-    if opened:
-        line, column = opened[-1]
-        return [Diagnostic(line, column, "this '{' is never closed", kind="syntax")]
-    return []
 
 
 _TERMINAL_NAMES = {
@@ -243,7 +365,10 @@ def _syntax_diagnostic(e: UnexpectedInput, text: str) -> Diagnostic:
         char = text[e.pos_in_stream]
         shown = repr(char) if not char.isprintable() or char in "'\"" else f"'{char}'"
         expected, keywords = _expected(e.allowed or ())
-        message = f"unexpected character {shown}; expected {expected}"
+        spaced = _spaced_unit(text, e.pos_in_stream, char)
+        message = (
+            f"unexpected {shown} {spaced}" if spaced else f"unexpected character {shown}; expected {expected}"
+        )
     elif isinstance(e, UnexpectedToken):
         token = e.token
         expected, keywords = _expected(e.expected)
@@ -255,13 +380,31 @@ def _syntax_diagnostic(e: UnexpectedInput, text: str) -> Diagnostic:
         else:
             found = f"'{token.value}'"
         message = f"unexpected {found}; expected {expected}"
-        if token.type not in ("$END", "_NL") and keywords:
+        spaced = _spaced_unit(text, token.start_pos, str(token)) if token.type == "NAME" else ""
+        if spaced:
+            message = f"unexpected {found} {spaced}"
+        elif token.type not in ("$END", "_NL") and keywords:
             message += did_you_mean(str(token.value), keywords)
     else:  # pragma: no cover - lark's LALR parser raises only the two above
         message = "cannot parse this"
     if not isinstance(line, int) or line < 1:
         line, column = _end_of(text)
     return Diagnostic(line, column, message, kind="syntax")
+
+
+_UNIT_WORDS = frozenset(unit for units in UNITS.values() for unit in units if unit)
+_NUMBER_BEFORE = re.compile(r"(?<![\w.])([-+]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+))[ \t]+$")
+
+
+def _spaced_unit(text: str, at: int, word: str) -> str:
+    """For a unit written apart from its number (`0.5 s`), how to write it; or ''."""
+    if word.lower() not in _UNIT_WORDS:
+        return ""
+    m = _NUMBER_BEFORE.search(text, max(0, at - 40), at)
+    if m is None:
+        return ""
+    number = m.group(1)
+    return f"in '{number} {word}': write the unit straight after the number, as in '{number}{word}'"
 
 
 def _end_of(text: str) -> Tuple[int, int]:
@@ -274,19 +417,20 @@ def _end_of(text: str) -> Tuple[int, int]:
 # -- tree -> AST ---------------------------------------------------------
 
 
-def _pos(meta_or_token: Any) -> n.Pos:
-    return n.Pos(meta_or_token.line, meta_or_token.column)
-
-
-@v_args(meta=True)
 class _Builder(Transformer):
     """Builds AST nodes, recording a diagnostic for each bad value it meets."""
 
-    def __init__(self, diagnostics: List[Diagnostic]) -> None:
+    def __init__(self, diagnostics: List[Diagnostic], text: str, line: Callable[[int], int]) -> None:
         super().__init__()
         self.diagnostics = diagnostics
+        self.text = text
+        self.line = line  # the user's line for a line of `text`
+        self.hints = Hints()
 
     # -- helpers
+
+    def _pos(self, meta_or_token: Any) -> n.Pos:
+        return n.Pos(self.line(meta_or_token.line), meta_or_token.column)
 
     def _error(self, at: Any, message: str, column_offset: int = 0) -> None:
         self.diagnostics.append(Diagnostic(at.line, at.column + column_offset, message))
@@ -301,7 +445,7 @@ class _Builder(Transformer):
         if scale is None:
             allowed = [u for u in UNITS[meaning] if u]
             usage = f"; {what} takes {one_of(allowed)}" if allowed else f"; {what} takes a plain number"
-            hint = did_you_mean(unit, allowed) if allowed else ""
+            hint = self.hints(unit, allowed) if allowed else ""
             self._error(token, f"unknown unit '{unit}' for {what}{hint or usage}", len(number))
             return None
         value = float(number) * scale
@@ -338,7 +482,7 @@ class _Builder(Transformer):
     def _known(self, token: Token, choices: Any, what: str) -> str:
         name = str(token).lower()
         if name not in choices:
-            hint = did_you_mean(name, choices) or f"; use {one_of(choices)}"
+            hint = self.hints(name, choices) or f"; use {one_of(choices)}"
             self._error(token, f"unknown {what} '{token}'{hint}")
         return name
 
@@ -352,31 +496,33 @@ class _Builder(Transformer):
             )
 
     # -- statements
+    # Each statement's first child is its keyword's token (or its one token):
+    # where the statement is, without lark's costly position propagation.
 
-    def start(self, meta: Any, children: List[Any]) -> Tuple[Any, ...]:
+    def start(self, children: List[Any]) -> Tuple[Any, ...]:
         return tuple(children)
 
-    def block(self, meta: Any, children: List[Any]) -> Tuple[Any, ...]:
+    def block(self, children: List[Any]) -> Tuple[Any, ...]:
         return tuple(children)
 
-    def word(self, meta: Any, children: List[Token]) -> Any:
+    def word(self, children: List[Token]) -> Any:
         (token,) = children
         name = str(token).lower()
         factory = BARE_WORDS.get(name)
         if factory is not None:
-            return factory(pos=_pos(meta))
-        return n.Call(name, pos=_pos(meta))
+            return factory(pos=self._pos(token))
+        return n.Call(name, pos=self._pos(token))
 
-    def wake_up(self, meta: Any, children: List[Any]) -> n.Emotion:
-        return n.Emotion("wake up", pos=_pos(meta))
+    def wake_up(self, children: List[Token]) -> n.Emotion:
+        return n.Emotion("wake up", pos=self._pos(children[0]))
 
-    def legacy(self, meta: Any, children: List[Token]) -> Any:
+    def legacy(self, children: List[Token]) -> Any:
         (token,) = children
         text = str(token).lower()
         numbers = list(_LEGACY_NUMBER.finditer(text))
         command = text[: numbers[0].start()]
         counts, usage = LEGACY_USAGE[command]
-        pos = _pos(meta)
+        pos = self._pos(token)
         if len(numbers) not in counts:
             self._error(token, f"'{token}' takes {' or '.join(map(str, counts))} numbers: {usage}")
             return n.Wait(0.0, pos=pos)  # a stand-in, so no second error names it
@@ -388,95 +534,103 @@ class _Builder(Transformer):
             x, y = self._point(args[:2])
             duration = self._seconds(args[2], "a duration") if len(args) == 3 else None
             self._eye_target(token, x, y)
-            return n.Look(x, y, duration, dynamic=command == "dynamic_look", pos=pos)
+            return n.Look(x, y, n.Timing(duration), dynamic=command == "dynamic_look", pos=pos)
         if command == "wobble":
             return n.Wobble(self._angle(args[0], token), pos=pos)
         return n.Skin(self._skin(args[0]), pos=pos)
 
-    def look(self, meta: Any, children: List[Any]) -> n.Look:
-        dynamic = isinstance(children[0], Token) and children[0].type == "DYNAMIC"
-        if dynamic:
-            children = children[1:]
+    def look(self, children: List[Any]) -> n.Look:
+        at = children[0]
+        dynamic = at.type == "DYNAMIC"
+        children = children[2:] if dynamic else children[1:]
         (x, y), rest = children[0], children[1:]
-        duration, easing = rest[0] if rest else (None, "linear")
         if not isinstance(children[0], _Direction):
-            self._eye_target(meta, x, y)
-        return n.Look(x, y, duration, easing, dynamic, pos=_pos(meta))
+            self._eye_target(at, x, y)
+        return n.Look(x, y, rest[0] if rest else n.Timing(), dynamic, pos=self._pos(at))
 
-    def point(self, meta: Any, children: List[Token]) -> Tuple[float, float]:
+    def point(self, children: List[Token]) -> Tuple[float, float]:
         return self._point(children)
 
-    def direction(self, meta: Any, children: List[Token]) -> Tuple[float, float]:
+    def direction(self, children: List[Token]) -> Tuple[float, float]:
         (token,) = children
         name = self._known(token, DIRECTIONS, "direction")
         return _Direction(DIRECTIONS.get(name, (0.0, 0.0)))
 
-    def timing(self, meta: Any, children: List[Any]) -> Tuple[Optional[float], str]:
+    def timing(self, children: List[Any]) -> n.Timing:
         duration = None
         if isinstance(children[0], Token):
             duration = self._seconds(children[0], "a duration")
             children = children[1:]
-        return duration, (children[0] if children else "linear")
+        return n.Timing(duration, children[0] if children else "linear")
 
-    def easing(self, meta: Any, children: List[Token]) -> str:
-        return self._known(children[0], EASINGS, "easing")
+    def easing(self, children: List[Token]) -> str:
+        (token,) = children
+        spaced = _spaced_unit(self.text, token.start_pos, str(token))
+        if spaced:
+            self._error(token, f"unknown easing '{token}' {spaced}")
+            return "linear"
+        return self._known(token, EASINGS, "easing")
 
-    def wait(self, meta: Any, children: List[Token]) -> n.Wait:
-        return n.Wait(self._seconds(children[0], "a wait"), pos=_pos(meta))
+    def wait(self, children: List[Token]) -> n.Wait:
+        at, seconds = children
+        return n.Wait(self._seconds(seconds, "a wait"), pos=self._pos(at))
 
-    def wobble(self, meta: Any, children: List[Any]) -> n.Wobble:
-        angle = self._angle(children[0], meta)
-        duration, easing = children[1] if len(children) > 1 else (None, "linear")
-        return n.Wobble(angle, duration, easing, pos=_pos(meta))
+    def wobble(self, children: List[Any]) -> n.Wobble:
+        at, angle_token, *rest = children
+        angle = self._angle(angle_token, at)
+        return n.Wobble(angle, rest[0] if rest else n.Timing(), pos=self._pos(at))
 
-    def skin(self, meta: Any, children: List[Token]) -> n.Skin:
-        return n.Skin(self._skin(children[0]), pos=_pos(meta))
+    def skin(self, children: List[Token]) -> n.Skin:
+        at, index = children
+        return n.Skin(self._skin(index), pos=self._pos(at))
 
     def _skin(self, token: Token) -> int:
         return self._whole(token, "index", "a skin", min(SKINS), max(SKINS))
 
-    def mouth(self, meta: Any, children: List[Token]) -> n.Mouth:
-        return n.Mouth(self._known(children[0], MOUTHS, "mouth"), pos=_pos(meta))
+    def mouth(self, children: List[Token]) -> n.Mouth:
+        at, name = children
+        return n.Mouth(self._known(name, MOUTHS, "mouth"), pos=self._pos(at))
 
-    def brows(self, meta: Any, children: List[Token]) -> n.Brows:
-        return n.Brows(self._known(children[0], BROWS, "brows"), pos=_pos(meta))
+    def brows(self, children: List[Token]) -> n.Brows:
+        at, name = children
+        return n.Brows(self._known(name, BROWS, "brows"), pos=self._pos(at))
 
-    def eyelids(self, meta: Any, children: List[Any]) -> n.Eyelids:
-        openness = self._number(children[0], "openness", "eyelid openness")
+    def eyelids(self, children: List[Any]) -> n.Eyelids:
+        at, amount, *rest = children
+        openness = self._number(amount, "openness", "eyelid openness")
         if openness is None:
             openness = 1.0
         elif not 0.0 <= openness <= 1.0:
-            self._error(
-                children[0], f"eyelid openness must be from 0 (closed) to 1 (open), not {children[0]}"
-            )
-        duration, easing = children[1] if len(children) > 1 else (None, "linear")
-        return n.Eyelids(openness, duration, easing, pos=_pos(meta))
+            self._error(amount, f"eyelid openness must be from 0 (closed) to 1 (open), not {amount}")
+        return n.Eyelids(openness, rest[0] if rest else n.Timing(), pos=self._pos(at))
 
-    def follow(self, meta: Any, children: List[Any]) -> n.Follow:
-        target = children[0]
-        dynamic = len(children) > 1
+    def follow(self, children: List[Any]) -> n.Follow:
+        at, target, *rest = children
+        dynamic = bool(rest)
         if target is None and dynamic:
-            self._error(children[1], "'follow off' takes no 'dynamic'")
-        return n.Follow(target, dynamic, pos=_pos(meta))
+            self._error(rest[0], "'follow off' takes no 'dynamic'")
+        return n.Follow(target, dynamic, pos=self._pos(at))
 
-    def follow_target(self, meta: Any, children: List[Token]) -> Optional[str]:
+    def follow_target(self, children: List[Token]) -> Optional[str]:
         kind = children[0].type
         return {"HUMAN": "human", "OFF": None, "LEFT": "left arm", "RIGHT": "right arm"}[kind]
 
-    def repeat(self, meta: Any, children: List[Any]) -> n.Repeat:
-        count = self._whole(children[0], "count", "a repeat count", 1, LIMITS.max_repeat)
-        return n.Repeat(count, self._body(meta, "repeat", children[1]), pos=_pos(meta))
+    def repeat(self, children: List[Any]) -> n.Repeat:
+        at, count_token, body = children
+        count = self._whole(count_token, "count", "a repeat count", 1, LIMITS.max_repeat)
+        return n.Repeat(count, self._body(at, "repeat", body), pos=self._pos(at))
 
-    def together(self, meta: Any, children: List[Any]) -> n.Together:
-        return n.Together(self._body(meta, "together", children[0]), pos=_pos(meta))
+    def together(self, children: List[Any]) -> n.Together:
+        at, body = children
+        return n.Together(self._body(at, "together", body), pos=self._pos(at))
 
-    def define(self, meta: Any, children: List[Any]) -> n.Define:
-        name, body = children
-        return n.Define(str(name).lower(), self._body(meta, "define", body), pos=_pos(meta))
+    def define(self, children: List[Any]) -> n.Define:
+        at, name, body = children
+        return n.Define(str(name).lower(), self._body(at, "define", body), pos=self._pos(at))
 
-    def _body(self, meta: Any, what: str, body: Tuple[Any, ...]) -> Tuple[Any, ...]:
+    def _body(self, at: Token, what: str, body: Tuple[Any, ...]) -> Tuple[Any, ...]:
         if not body:
-            self._error(meta, f"empty block: '{what}' needs at least one statement")
+            self._error(at, f"empty block: '{what}' needs at least one statement")
         return body
 
 

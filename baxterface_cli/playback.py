@@ -30,7 +30,7 @@ def status_line(t: float, duration: float, status: RobotStatus, head_pan: float,
         parts.append("enabled" if status.enabled else "disabled")
     if status.following:
         parts.append(f"following {status.following}" + (" (dynamic)" if status.follow_dynamic else ""))
-    if status.nodding:
+    if status.nodding(t):
         parts.append("nodding")
     if note:
         parts.append(note)
@@ -173,6 +173,8 @@ class Player:
         self.clock = clock
         self.sleep = sleep
         self.frames_shown = 0
+        self.position = 0.0  # the script time of the last frame shown
+        self.began: Optional[float] = None
         self.note = ""
         self.on_time = on_time  # told each frame's time first: for robot actions
 
@@ -187,7 +189,7 @@ class Player:
         starts from its beginning. Returns the seconds played.
         """
         start = self.clock()
-        began = start
+        began = self.began = start
         while self.screen.alive():
             if poll is not None:
                 fresh = poll()
@@ -211,7 +213,12 @@ class Player:
                 self.sleep(wait)
         return self.clock() - began
 
+    def elapsed(self) -> float:
+        """Seconds since `run` began (0 before)."""
+        return 0.0 if self.began is None else self.clock() - self.began
+
     def _show(self, t: float) -> None:
+        self.position = t
         if self.on_time is not None:
             self.on_time(t)
         state = self.animation.sample(t)

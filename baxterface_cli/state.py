@@ -21,6 +21,8 @@ class FaceState:
     Eye coordinates are pixels of the 1024x600 face (x right, y down), eyelid
     openness runs from 0 (closed) to 1 (open). During a crossfade, `fade_from`
     holds the parts being left and `fade` how far the change has gone (0..1).
+    `emotion` names the emotion the face shows from the moment it was asked
+    for (its lids move first, its parts follow).
     """
 
     skin: int = 2
@@ -32,6 +34,7 @@ class FaceState:
     head_pan: float = 0.0
     fade_from: Optional[Parts] = None
     fade: float = 1.0
+    emotion: Optional[str] = None  # the emotion last asked for, if any: a label, not drawn
 
     @property
     def parts(self) -> Parts:

@@ -33,6 +33,11 @@ class EmotionSpec(NamedTuple):
     eyelids: float  # openness the lids move to: 1 open .. 0 closed
     lid_seconds: float  # the lids move first, over this time
 
+    @property
+    def variants(self) -> Tuple[Tuple[str, str], ...]:
+        """The (mouth, brows) pairs the emotion picks from, in table order."""
+        return tuple((m, b) for m in self.mouths for b in self.brows)
+
 
 EMOTIONS: Dict[str, EmotionSpec] = {
     "default": EmotionSpec(2, ("smile",), ("normal",), 1.0, 0.3),
@@ -70,6 +75,10 @@ DIRECTIONS: Dict[str, Tuple[float, float]] = {
 EYE_RADIUS_X = 80.0
 EYE_RADIUS_Y = 120.0
 HEAD_PAN_LIMIT = 1.5  # radians; wobble clamps to +-this
+# A head pan's speed ratio is its radians per second over this, within the
+# bounds below: the mapping the face node has always used.
+HEAD_TOP_SPEED = 1.0  # radians a second at speed ratio 1
+HEAD_SPEED_RATIO = (0.05, 1.0)
 
 
 class Timing(NamedTuple):
@@ -101,10 +110,15 @@ class Limits(NamedTuple):
     """Bounds that keep any script cheap to check, compile and play."""
 
     max_bytes: int = 256 * 1024  # a script's text
-    max_depth: int = 32  # nested { } blocks
+    max_depth: int = 32  # nested { } blocks, as written
+    # Blocks and calls nested through definitions, as compiling recurses: at
+    # about four Python frames a level, 64 stays under a third of Python's
+    # default recursion limit of 1000.
+    max_nesting: int = 64
     max_repeat: int = 10_000  # one repeat's count
     max_seconds: float = 3600.0  # a script's total length
     max_steps: int = 100_000  # statements once repeats and definitions unroll
+    max_shown: int = 50  # diagnostics kept and printed; the rest are only counted
 
 
 LIMITS = Limits()

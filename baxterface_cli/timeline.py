@@ -2,10 +2,10 @@
 
 `compile_script` walks the AST with a clock and turns each statement into
 changes on tracks: eyes (x, y), lids, head pan, the parts (skin, mouth,
-brows, which swap with a short crossfade) and robot actions (enable, follow,
-nod, exit). Changes are applied in time order, each starting from wherever
-its track is at that moment, so `together` blocks and interrupted moves
-compose. `Timeline.sample(t)` is then a pure lookup.
+brows, which swap with a short crossfade), the emotion's name, and cues of
+robot effects (see `effects`). Changes are applied in time order, each
+starting from wherever its track is at that moment, so `together` blocks and
+interrupted moves compose. `Timeline.sample(t)` is then a pure lookup.
 """
 
 from __future__ import annotations
@@ -13,26 +13,18 @@ from __future__ import annotations
 import bisect
 import random
 from dataclasses import dataclass, field
-from typing import Any, Callable, Dict, List, NamedTuple, Optional, Sequence
+from typing import Any, Callable, Dict, List, NamedTuple, Optional, Sequence, Tuple
 
+from . import effects as fx
 from . import nodes as n
+from .durations import move_seconds
 from .easing import EASINGS
-from .face import emotion_variants
-from .geometry import clamp_pan, clamp_to_ellipse
+from .effects import Cue, RobotStatus, StatusFold
+from .geometry import clamp_pan, clamp_to_ellipse, dynamic_look, to_radians
 from .state import FaceState, Parts
-from .tables import EMOTIONS, EYE_RADIUS_X, TIMING
+from .tables import EMOTIONS, HEAD_SPEED_RATIO, HEAD_TOP_SPEED, TIMING
 
 CROSSFADE = 0.15  # seconds a script's part swap blends over; 0 cuts
-EYE_SPAN_RAD = 0.25  # the eyes alone cover this much either side of the head
-RAD_PER_PIXEL = 3.0 / 160.0  # eye x 80 <-> head 1.5 rad
-
-
-def to_radians(x: float) -> float:
-    return x * RAD_PER_PIXEL
-
-
-def to_pixels(rad: float) -> float:
-    return rad / RAD_PER_PIXEL
 
 
 class Piece(NamedTuple):
@@ -104,15 +96,6 @@ class PartsChange(NamedTuple):
     fade: float  # seconds
 
 
-class Action(NamedTuple):
-    """Something only the robot can do, at a time: enable, disable, nod, follow, head, exit."""
-
-    at: float
-    kind: str
-    value: Any = None
-    duration: float = 0.0
-
-
 class Span(NamedTuple):
     """What one statement does, for `explain`."""
 
@@ -122,38 +105,36 @@ class Span(NamedTuple):
     text: str
 
 
-class RobotStatus(NamedTuple):
-    """What the robot would be doing at a time, beyond the screen."""
-
-    enabled: Optional[bool]  # None: the script never said
-    following: Optional[str]  # "human", "left arm", "right arm" or None
-    follow_dynamic: bool
-    nodding: bool
-    exited: bool
-
-
 @dataclass
 class Timeline:
-    """A compiled script: tracks, part changes, robot actions and a length."""
+    """A compiled script: tracks, part changes, emotions, robot cues and a length."""
 
     eyes: Track
     lids: Track
     head: Track
     parts: List[PartsChange]
-    actions: List[Action]
+    emotions: List[Tuple[float, str]]  # (when asked for, name), in time order
+    cues: List[Cue]  # robot effects, in time order
     spans: List[Span]
     duration: float
     initial: FaceState
     _part_times: List[float] = field(default_factory=list, repr=False)
+    _emotion_times: List[float] = field(default_factory=list, repr=False)
 
     def __post_init__(self) -> None:
         self._part_times = [c.at for c in self.parts]
+        self._emotion_times = [at for at, _ in self.emotions]
 
     def sample(self, t: float) -> FaceState:
         """The face at time t (seconds from the start): pure, the same every call."""
         x, y = self.eyes.value(t)
+        i = bisect.bisect_right(self._emotion_times, t) - 1
         state = self.initial.replace(
-            eye_x=x, eye_y=y, eyelids=self.lids.value(t), head_pan=self.head.value(t)
+            eye_x=x,
+            eye_y=y,
+            eyelids=self.lids.value(t),
+            head_pan=self.head.value(t),
+            emotion=self.emotions[i][1] if i >= 0 else self.initial.emotion,
         )
         i = bisect.bisect_right(self._part_times, t) - 1
         if i < 0:
@@ -167,20 +148,14 @@ class Timeline:
                 return state.replace(fade_from=before, fade=elapsed / change.fade)
         return state.replace(fade_from=None, fade=1.0)
 
-    def status(self, t: float) -> RobotStatus:
-        enabled, following, dynamic, nodding, exited = None, None, False, False, False
-        for action in self.actions:
-            if action.at > t:
+    def status(self, t: float, start: Optional[RobotStatus] = None) -> RobotStatus:
+        """The robot's status at t: `start` with every cue up to t folded in."""
+        fold = StatusFold(start)
+        for cue in self.cues:
+            if cue.at > t:
                 break
-            if action.kind in ("enable", "disable"):
-                enabled = action.kind == "enable"
-            elif action.kind == "follow":
-                following, dynamic = action.value
-            elif action.kind == "nod":
-                nodding = t < action.at + action.duration
-            elif action.kind == "exit":
-                exited = True
-        return RobotStatus(enabled, following, dynamic, nodding, exited)
+            cue.effect.visit(fold, cue.at)
+        return fold.status
 
     def frame_times(self, fps: float) -> List[float]:
         """Frame times from 0 through the end, the last frame at the end itself."""
@@ -209,7 +184,8 @@ class _Compiler:
         self.lids = Track(start.eyelids)
         self.head = Track(start.head_pan)
         self.parts: List[PartsChange] = []
-        self.actions: List[Action] = []
+        self.emotions: List[Tuple[float, str]] = []
+        self.cues: List[Cue] = []
         self.spans: List[Span] = []
         self.events: List[_Event] = []
         self.exit_at: Optional[float] = None
@@ -251,32 +227,37 @@ class _Compiler:
 
     def do_emotion(self, s: n.Emotion, t: float) -> float:
         spec = EMOTIONS[s.name]
-        mouth, brows = self.rng.choice(emotion_variants(s.name))
-        self.later(t, lambda at: self.lids.move(at, spec.lid_seconds, spec.eyelids))
+        mouth, brows = self.rng.choice(spec.variants)
+
+        def lids_first(at: float) -> None:
+            self.emotions.append((at, s.name))
+            self.lids.move(at, spec.lid_seconds, spec.eyelids)
+
+        self.later(t, lids_first)
         self.change_parts(t + spec.lid_seconds, skin=spec.skin, mouth=mouth, brows=brows)
         return t + spec.lid_seconds
 
     def do_look(self, s: n.Look, t: float) -> float:
-        duration = TIMING.look if s.duration is None else s.duration
-        target = clamp_to_ellipse(s.x, s.y)
+        duration, easing = move_seconds(s), s.timing.easing
         if not s.dynamic:
-            self.later(t, lambda at: self.eyes.move(at, duration, target, s.easing))
+            target = clamp_to_ellipse(s.x, s.y)
+            self.later(t, lambda at: self.eyes.move(at, duration, target, easing))
             return t + duration
 
         def dynamic(at: float) -> None:
-            head_rad = self.head.value(at)
-            want = to_radians(s.x)
-            if abs(want - head_rad) > EYE_SPAN_RAD:
-                pan = clamp_pan(want)
-                self.head.move(at, duration, pan, s.easing)
-                self.actions.append(Action(at, "head", pan, duration))
-                self.eyes.move(at, duration, clamp_to_ellipse(0.0, s.y), s.easing)
-            else:
-                eye_x = max(-EYE_RADIUS_X, min(EYE_RADIUS_X, to_pixels(want - head_rad)))
-                self.eyes.move(at, duration, clamp_to_ellipse(eye_x, s.y), s.easing)
+            pan, eye_x = dynamic_look(to_radians(s.x), self.head.value(at))
+            if pan is not None:
+                self.pan_head(at, pan, duration, easing)
+            self.eyes.move(at, duration, clamp_to_ellipse(eye_x, s.y), easing)
 
         self.later(t, dynamic)
         return t + duration
+
+    def pan_head(self, at: float, target: float, duration: float, easing: str) -> None:
+        """Move the head track, and cue the robot with the speed that keeps pace with it."""
+        start = self.head.value(at)
+        self.head.move(at, duration, target, easing)
+        self.cues.append(Cue(at, fx.HeadPan(target, head_speed(start, target, duration), duration)))
 
     def do_blink(self, s: n.Blink, t: float) -> float:
         def blink(at: float) -> None:
@@ -288,8 +269,8 @@ class _Compiler:
         return t + TIMING.blink_close + TIMING.blink_open
 
     def do_eyelids(self, s: n.Eyelids, t: float) -> float:
-        duration = TIMING.eyelids if s.duration is None else s.duration
-        self.later(t, lambda at: self.lids.move(at, duration, s.openness, s.easing))
+        duration = move_seconds(s)
+        self.later(t, lambda at: self.lids.move(at, duration, s.openness, s.timing.easing))
         return t + duration
 
     def do_skin(self, s: n.Skin, t: float) -> float:
@@ -317,43 +298,45 @@ class _Compiler:
     # -- the robot
 
     def do_wobble(self, s: n.Wobble, t: float) -> float:
-        duration = TIMING.wobble if s.duration is None else s.duration
-        pan = clamp_pan(s.angle)
-
-        def wobble(at: float) -> None:
-            self.head.move(at, duration, pan, s.easing)
-            self.actions.append(Action(at, "head", pan, duration))
-
-        self.later(t, wobble)
+        duration = move_seconds(s)
+        self.later(t, lambda at: self.pan_head(at, clamp_pan(s.angle), duration, s.timing.easing))
         return t + duration
 
+    def cue(self, t: float, effect: fx.Effect) -> None:
+        self.later(t, lambda at: self.cues.append(Cue(at, effect)))
+
     def do_nod(self, s: n.Nod, t: float) -> float:
-        self.later(t, lambda at: self.actions.append(Action(at, "nod", None, TIMING.nod)))
+        self.cue(t, fx.HeadNod(TIMING.nod))
         return t + TIMING.nod
 
     def do_enable(self, s: n.Enable, t: float) -> float:
-        self.later(t, lambda at: self.actions.append(Action(at, "enable")))
+        self.cue(t, fx.SetEnabled(True))
         return t
 
     def do_disable(self, s: n.Disable, t: float) -> float:
-        self.later(t, lambda at: self.actions.append(Action(at, "disable")))
+        self.cue(t, fx.SetEnabled(False))
         return t
 
     def do_follow(self, s: n.Follow, t: float) -> float:
-        def follow(at: float) -> None:
-            self.actions.append(Action(at, "follow", (s.target, s.dynamic)))
-            if s.target is None:  # stopping recentres the eyes, as the original did
-                self.eyes.move(at, TIMING.look, (0.0, 0.0))
-
-        self.later(t, follow)
+        self.cue(t, fx.Follow(s.target, s.dynamic))
+        if s.target is None:  # stopping recentres the eyes, as the original did
+            self.later(t, lambda at: self.eyes.move(at, TIMING.look, (0.0, 0.0)))
         return t
 
     def do_exit(self, s: n.Exit, t: float) -> float:
         # The sleep face, fully faded in, is the last thing shown.
         end = self.do_emotion(n.Emotion("sleep", pos=s.pos), t) + self.crossfade
-        self.later(end, lambda at: self.actions.append(Action(at, "exit")))
+        self.cue(end, fx.Exit())
         self.exit_at = end
         return end
+
+
+def head_speed(start: float, target: float, duration: float) -> float:
+    """The speed ratio that pans the head from `start` to `target` in `duration` seconds."""
+    if duration <= 0:
+        return HEAD_SPEED_RATIO[1]
+    low, high = HEAD_SPEED_RATIO
+    return min(high, max(low, abs(target - start) / duration / HEAD_TOP_SPEED))
 
 
 def compile_script(
@@ -373,9 +356,9 @@ def compile_script(
     end = compiler.sequence(script.body, 0.0)
     for event in sorted(compiler.events, key=lambda e: (e.at, e.order)):
         event.apply(event.at)
-    compiler.actions.sort(key=lambda a: a.at)
     tails = [end, compiler.eyes.end, compiler.lids.end, compiler.head.end]
-    tails += [c.at + c.fade for c in compiler.parts] + [a.at + a.duration for a in compiler.actions]
+    tails += [c.at + c.fade for c in compiler.parts]
+    tails += [c.at + c.effect.duration for c in compiler.cues]
     duration = max(tails)
     if compiler.exit_at is not None:
         duration = compiler.exit_at
@@ -385,7 +368,8 @@ def compile_script(
         compiler.lids,
         compiler.head,
         compiler.parts,
-        compiler.actions,
+        compiler.emotions,
+        compiler.cues,
         compiler.spans,
         duration,
         start or FaceState(),
@@ -395,19 +379,19 @@ def compile_script(
 def describe(s: Any) -> str:
     """A statement in words, for `explain`."""
 
-    def timed(duration: Optional[float], easing: str, default: float) -> str:
-        seconds = default if duration is None else duration
-        return f" in {seconds:g}s" + ("" if easing == "linear" else f" {easing}")
+    def timed(s: Any) -> str:
+        easing = s.timing.easing
+        return f" in {move_seconds(s):g}s" + ("" if easing == "linear" else f" {easing}")
 
     if isinstance(s, n.Emotion):
         return s.name
     if isinstance(s, n.Look):
         kind = "dynamic look" if s.dynamic else "look"
-        return f"{kind} {s.x:g} {s.y:g}{timed(s.duration, s.easing, TIMING.look)}"
+        return f"{kind} {s.x:g} {s.y:g}{timed(s)}"
     if isinstance(s, n.Wobble):
-        return f"wobble {s.angle:g} rad{timed(s.duration, s.easing, TIMING.wobble)}"
+        return f"wobble {s.angle:g} rad{timed(s)}"
     if isinstance(s, n.Eyelids):
-        return f"eyelids {s.openness:g}{timed(s.duration, s.easing, TIMING.eyelids)}"
+        return f"eyelids {s.openness:g}{timed(s)}"
     if isinstance(s, n.Wait):
         return f"wait {s.duration:g}s"
     if isinstance(s, n.Skin):
@@ -434,9 +418,10 @@ def state_record(t: float, state: FaceState, status: RobotStatus) -> Dict[str, A
         "head_pan": round(state.head_pan, 4),
         "fade_from": list(state.fade_from) if state.fade_from else None,
         "fade": round(state.fade, 4),
+        "emotion": state.emotion,
         "enabled": status.enabled,
         "following": status.following,
         "follow_dynamic": status.follow_dynamic,
-        "nodding": status.nodding,
+        "nodding": status.nodding(t),
         "exited": status.exited,
     }

@@ -9,6 +9,8 @@ its own process, and measures from a third one (this):
   change the face at once) to the first changed frame received here; the
   baseline, measured in this run, is a relay that answers each command with
   a frame it already holds: ROS's own cost of moving 1.8 MB;
+- first motion: from `look_60_0` (a 0.5 s move) to the first frame showing
+  the eyes moving, beside a jump (`look_60_0_0`), which shows at once;
 - frame rate reaching a subscriber during a 30 fps look animation whose
   every frame differs (the node sends no frame that did not change);
 - an idle face (idle blinks on): frames a second between blinks, and the
@@ -57,19 +59,53 @@ class Frames:
         self.event.set()
 
 
-def latencies(rospy, String, frames, count=120):
+def latencies(rospy, String, frames, commands=("skin_3", "skin_1"), count=120, gap=0.15):
+    """Milliseconds from each command to the first frame that reaches us after it."""
     pub = rospy.Publisher("/display_chatter", String, queue_size=10)
     time.sleep(1.0)
     out = []
     for i in range(count):
         frames.event.clear()
         sent = time.monotonic()
-        pub.publish(String("skin_1" if i % 2 else "skin_3"))
+        pub.publish(String(commands[i % len(commands)]))
         if frames.event.wait(2.0):
             out.append((frames.times[-1] - sent) * 1000)
-        time.sleep(0.15)
+        time.sleep(gap)  # the move ends (a timed look lasts 0.5 s) before the next command
     pub.unregister()
     return out
+
+
+def rss_mb(pid: int) -> float:
+    for line in Path(f"/proc/{pid}/status").read_text().splitlines():
+        if line.startswith("VmRSS:"):
+            return int(line.split()[1]) / 1024
+    return 0.0
+
+
+def flood_figures(node, chatter, String, frames, seconds=10.0):
+    """A flood of good, bad and maximum-size commands while the eyes move; then SIGTERM under load."""
+    moving = "repeat 100 { look 60 0 in 1s; look -60 0 in 1s }"
+    line = "look 40 -20 in 0.05s; look -40 20 in 0.05s\n"
+    huge = line * (250 * 1024 // len(line))
+    mixed = [moving, "hapy", "a\n" * 100_000, huge, "look_a_b", "x" * 300_000]
+    chatter.publish(String(moving))
+    time.sleep(1.0)
+    before, start, sent = rss_mb(node.pid), len(frames.times), 0
+    began = time.monotonic()
+    while time.monotonic() - began < seconds:
+        chatter.publish(String(mixed[sent % len(mixed)]))
+        sent += 1
+        time.sleep(0.002)
+    spent = time.monotonic() - began
+    times = frames.times[start:]
+    gap = max((b - a for a, b in zip(times, times[1:])), default=float("inf"))
+    after = rss_mb(node.pid)
+    for _ in range(20):
+        chatter.publish(String(huge))
+    stop = time.monotonic()
+    node.send_signal(signal.SIGTERM)
+    node.wait()
+    return sent / spent, gap * 1000, before, after, time.monotonic() - stop
 
 
 def cpu_seconds(pid: int) -> float:
@@ -110,6 +146,9 @@ def main() -> None:
         )
         time.sleep(4.0)
         ours = latencies(rospy, String, frames)
+        # A jump shows at once; a timed move (0.5 s) must show its first motion as soon.
+        jumps = latencies(rospy, String, frames, ("look_60_0_0", "look_-60_0_0"), count=60, gap=0.3)
+        moves = latencies(rospy, String, frames, ("look_60_0", "look_-60_0"), count=60, gap=0.8)
 
         chatter = rospy.Publisher("/display_chatter", String, queue_size=10)
         time.sleep(0.5)
@@ -121,8 +160,7 @@ def main() -> None:
         time.sleep(6.0)
         window = [t for t in frames.times[start:]]
         look_fps = (len(window) - 1) / (window[-1] - window[0]) if len(window) > 1 else 0.0
-        node.send_signal(signal.SIGTERM)
-        node.wait()
+        flood = flood_figures(node, chatter, String, frames)
 
         idle = subprocess.Popen(
             [sys.executable, "-m", "baxterface_cli", "node", "_idle:=true"], cwd=str(ROOT), env=env
@@ -154,7 +192,19 @@ def main() -> None:
             f"({len(values)} answered)"
         )
     print(f"  node / floor: median {statistics.median(ours) / statistics.median(floor):.1f}x")
+    print("look_60_0 on display_chatter -> first frame showing the eyes moving (ms), 60 commands each")
+    for name, values in (("jump (look_60_0_0)", jumps), ("0.5 s move (look_60_0)", moves)):
+        print(
+            f"  {name:<24} median {statistics.median(values):6.1f}  max {max(values):6.1f}  "
+            f"({len(values)} answered)"
+        )
     print(f"30 fps look animation reaching a subscriber: {look_fps:.1f} frames/s")
+    rate, gap, before, after, exit_s = flood
+    print(f"flood of good, bad and 256 KiB commands for 10 s: {rate:.0f} commands/s absorbed")
+    print(
+        f"  largest gap between frames {gap:.0f} ms; node memory {before:.0f} MB before, {after:.0f} MB after"
+    )
+    print(f"  SIGTERM with 20 maximum-size commands pending: exited in {exit_s:.2f} s")
     print(
         f"idle face over {spent:.0f} s: {len(stamps)} frames, {quiet_rate:.2f} frames/s between blinks, "
         f"node CPU {cpu:.1f} % of a core"

@@ -20,7 +20,6 @@ import numpy as np
 from PIL import Image
 
 from baxterface_cli import FaceState, Parts
-from baxterface_cli.face import emotion_variants
 from baxterface_cli.renderer import Renderer, pose
 from baxterface_cli.tables import EMOTIONS
 from baxterface_cli.theme import Theme
@@ -70,7 +69,7 @@ def emotions_changing(n: int) -> List[FaceState]:
     for i in range(n):
         name = names[i % len(names)]
         spec = EMOTIONS[name]
-        mouth, brows = emotion_variants(name)[0]
+        mouth, brows = EMOTIONS[name].variants[0]
         out.append(FaceState(spec.skin, mouth, brows, eyelids=spec.eyelids))
     return out
 

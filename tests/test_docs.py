@@ -2,9 +2,14 @@
 
 from __future__ import annotations
 
+import os
 import re
+import shutil
+import subprocess
+import sys
 from pathlib import Path
 
+import pexpect
 import pytest
 
 from baxterface_cli import parse
@@ -52,3 +57,103 @@ def test_the_legacy_table_is_right_and_complete():
             assert word in documented
     for command in LEGACY_USAGE:
         assert any(row.startswith(command + "_") for row in documented), command
+
+
+# -- console examples: each command runs, and prints what the docs show ----
+
+DOCS = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
+# Commands these examples leave to other tests: `make` is the set-up that CI
+# itself runs; ROS commands run against a real master in tests/test_ros.py.
+ELSEWHERE = ("make ", "baxterface node", "baxterface send", "baxterface stream", "rostopic ", "roslaunch ")
+
+
+def console_examples(paths=DOCS):
+    """(doc, command, expected output lines) for every `$ ` line of every console block."""
+    out = []
+    for path in paths:
+        for tag, body in fenced_blocks(path.read_text(encoding="utf-8")):
+            if tag != "console":
+                continue
+            for line in body.splitlines():
+                if line.startswith("$ "):
+                    command = re.sub(r"\s{2,}#.*$", "", line[2:]).strip()
+                    out.append([path.name, command, []])
+                elif out:
+                    out[-1][2].append(line.rstrip())
+    return [tuple(example) for example in out]
+
+
+def matches(expected, actual):
+    """Do the lines match? A line of '...' stands for any number of lines, and a line
+    ending in ' ...' for any line that starts like it (a time, say, that varies)."""
+    if not expected:
+        return not actual
+    if expected[0].strip() == "...":
+        return any(matches(expected[1:], actual[i:]) for i in range(len(actual) + 1))
+    if not actual:
+        return False
+    head = expected[0]
+    same = actual[0].startswith(head[:-3]) if head.endswith(" ...") else head == actual[0]
+    return same and matches(expected[1:], actual[1:])
+
+
+LOCAL = [e for e in console_examples() if not e[1].startswith(ELSEWHERE)]
+
+
+@pytest.fixture
+def doc_folder(tmp_path):
+    """A folder like the reader's: the example scripts, beside and under scripts_examples/, and assets/."""
+    (tmp_path / "scripts_examples").mkdir()
+    (tmp_path / "assets").mkdir()  # the theme-drawing script writes beside itself, so here
+    shutil.copy(ROOT / "assets" / "draw_default_theme.py", tmp_path / "assets")
+    for script in (ROOT / "scripts_examples").glob("*.face"):
+        shutil.copy(script, tmp_path / script.name)
+        shutil.copy(script, tmp_path / "scripts_examples" / script.name)
+    return tmp_path
+
+
+@pytest.mark.parametrize("doc, command, expected", LOCAL, ids=[f"{e[0]}: {e[1]}" for e in LOCAL])
+def test_console_examples_print_what_the_docs_show(doc, command, expected, doc_folder):
+    for earlier_doc, earlier, _ in LOCAL:  # an example may use what one before it made
+        if (earlier_doc, earlier) == (doc, command):
+            break
+        if earlier_doc == doc and "export" in earlier:
+            subprocess.run(earlier, shell=True, cwd=str(doc_folder), env=doc_env(), capture_output=True)
+    if command.startswith("baxterface theme check broken"):
+        break_a_theme(doc_folder / "broken")
+    if command.startswith("baxterface play"):
+        child = pexpect.spawn("bash", ["-c", command], cwd=str(doc_folder), env=doc_env(), timeout=60)
+        child.expect(pexpect.EOF)
+        child.close()
+        assert child.exitstatus == 0 and b"played" in child.before
+        return
+    run = subprocess.run(
+        command, shell=True, cwd=str(doc_folder), env=doc_env(), capture_output=True, text=True, timeout=120
+    )
+    assert run.returncode == (
+        1 if "error" in "\n".join(expected) or "baxterface:" in "".join(expected) else 0
+    )
+    printed = (run.stdout + run.stderr).rstrip("\n")
+    assert matches(expected, printed.splitlines() if printed else []), printed
+
+
+def doc_env():
+    env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "BAXTERFACE_DEBUG")}
+    env.update(COLUMNS="100", NO_COLOR="1", TERM="xterm-256color")
+    env["PATH"] = f"{Path(sys.executable).parent}{os.pathsep}{env['PATH']}"
+    return env
+
+
+def break_a_theme(folder):
+    """The docs' `broken/`: an exported theme whose skin-3.png was cropped to 1000 pixels wide."""
+    from PIL import Image
+
+    if not folder.exists():
+        subprocess.run(["baxterface", "theme", "export", str(folder)], env=doc_env(), check=True)
+    skin = folder / "skin-3.png"
+    Image.open(skin).crop((0, 0, 1000, 600)).save(skin)
+
+
+def test_the_console_examples_are_found():
+    commands = [c for _, c, _ in console_examples()]
+    assert "baxterface explain hello.face" in commands and len(LOCAL) >= 8

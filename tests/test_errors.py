@@ -8,10 +8,12 @@ check writes to stderr. After a deliberate change to the messages,
 from __future__ import annotations
 
 import os
+import re
 from pathlib import Path
 
 import pytest
 
+from baxterface_cli.tables import LIMITS
 from conftest import ROOT, baxterface
 
 pytestmark = pytest.mark.language
@@ -44,3 +46,23 @@ def test_goldens_cover_line_column_caret_and_suggestion():
     assert "\n    mouth smil\n          ^\n" in text
     tabs = (GOLDEN / "tabs.txt").read_text(encoding="utf-8")
     assert "\n    \t\tmouth smiel\n    \t\t      ^\n" in tabs
+
+
+FLOODS = {
+    "unknown words": ("a\n", 1),
+    "misspellings": ("hapy\n", 1),
+    "warnings": ("look 500 0 in 0s\n", 0),
+}
+
+
+@pytest.mark.parametrize("line, code", FLOODS.values(), ids=list(FLOODS))
+def test_a_flood_of_problems_prints_the_first_and_counts_the_rest(tmp_path, line, code):
+    count = LIMITS.max_bytes // len(line)
+    path = tmp_path / "flood.face"
+    path.write_text(line * count, encoding="utf-8")
+    run = baxterface("check", str(path))
+    assert run.code == code and "Traceback" not in run.err
+    heads = [x for x in run.err.splitlines() if re.match(re.escape(str(path)) + r":\d+:\d+: ", x)]
+    assert len(heads) == LIMITS.max_shown
+    what = "errors" if code else "warnings"
+    assert run.err.splitlines()[-1] == f"{path}: ... and {count - LIMITS.max_shown} more {what}"

@@ -9,6 +9,7 @@ import pytest
 from baxterface_cli import nodes as n
 from baxterface_cli import parse_file
 from baxterface_cli.checker import measure, walk
+from conftest import baxterface
 
 pytestmark = pytest.mark.language
 
@@ -34,5 +35,14 @@ def test_show_is_15_to_30_seconds_and_uses_most_of_the_language():
     wanted = {n.Emotion, n.Look, n.Blink, n.Wait, n.Wobble, n.Nod, n.Skin, n.Mouth, n.Brows, n.Eyelids}
     wanted |= {n.Repeat, n.Together, n.Define, n.Call}
     assert wanted <= kinds, wanted - kinds
-    easings = {s.easing for s in walk(script.body) if isinstance(s, n.Look)}
+    easings = {s.timing.easing for s in walk(script.body) if isinstance(s, n.Look)}
     assert {"ease-in", "ease-out", "ease-in-out", "linear"} <= easings
+
+
+@pytest.mark.parametrize("path", EXAMPLES, ids=[p.name for p in EXAMPLES])
+def test_every_example_explains_and_renders_as_a_user_would(path, tmp_path):
+    explained = baxterface("explain", str(path))
+    assert explained.code == 0 and explained.err == "", explained.err
+    assert explained.out.startswith(f"{path}: ")
+    rendered = baxterface("render", str(path), "--out", str(tmp_path / "last.png"), "--quiet")
+    assert rendered.code == 0 and (tmp_path / "last.png").stat().st_size > 0, rendered.err

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 import re
+import sys
 
 import pytest
 
@@ -30,7 +31,7 @@ def errors(text):
 def test_the_users_own_example():
     assert body("happy; look 40 -20 in 0.5s; wobble 0.3") == (
         n.Emotion("happy"),
-        n.Look(40, -20, 0.5),
+        n.Look(40, -20, n.Timing(0.5)),
         n.Wobble(0.3),
     )
 
@@ -51,23 +52,23 @@ def test_keywords_and_names_are_case_insensitive():
     "text, node",
     [
         ("look 40 -20", n.Look(40, -20)),
-        ("look 40 -20 in 500ms", n.Look(40, -20, 0.5)),
-        ("look 40 -20 in 2", n.Look(40, -20, 2.0)),
+        ("look 40 -20 in 500ms", n.Look(40, -20, n.Timing(0.5))),
+        ("look 40 -20 in 2", n.Look(40, -20, n.Timing(2.0))),
         ("look 10px 20px", n.Look(10, 20)),
-        ("look 40 -20 in 0.5s ease-in-out", n.Look(40, -20, 0.5, "ease-in-out")),
-        ("look 40 -20 ease-out", n.Look(40, -20, None, "ease-out")),
+        ("look 40 -20 in 0.5s ease-in-out", n.Look(40, -20, n.Timing(0.5, "ease-in-out"))),
+        ("look 40 -20 ease-out", n.Look(40, -20, n.Timing(None, "ease-out"))),
         ("look left", n.Look(65, 0)),
         ("look right", n.Look(-65, 0)),
         ("look up", n.Look(0, -97.5)),
-        ("look down in 1s", n.Look(0, 97.5, 1.0)),
+        ("look down in 1s", n.Look(0, 97.5, n.Timing(1.0))),
         ("look center", n.Look(0, 0)),
         ("look centre", n.Look(0, 0)),
-        ("dynamic look 30 0 in 1s ease-in", n.Look(30, 0, 1.0, "ease-in", dynamic=True)),
+        ("dynamic look 30 0 in 1s ease-in", n.Look(30, 0, n.Timing(1.0, "ease-in"), dynamic=True)),
         ("blink", n.Blink()),
         ("wait 2s", n.Wait(2.0)),
         ("wait 250ms", n.Wait(0.25)),
         ("wobble 0.3", n.Wobble(0.3)),
-        ("wobble 0.3 in 1s ease-in-out", n.Wobble(0.3, 1.0, "ease-in-out")),
+        ("wobble 0.3 in 1s ease-in-out", n.Wobble(0.3, n.Timing(1.0, "ease-in-out"))),
         ("nod", n.Nod()),
         ("enable", n.Enable()),
         ("disable", n.Disable()),
@@ -78,7 +79,7 @@ def test_keywords_and_names_are_case_insensitive():
         ("mouth teeth", n.Mouth("teeth")),
         ("brows worried", n.Brows("worried")),
         ("eyelids 0.5", n.Eyelids(0.5)),
-        ("eyelids 0 in 1s", n.Eyelids(0.0, 1.0)),
+        ("eyelids 0 in 1s", n.Eyelids(0.0, n.Timing(1.0))),
         ("eyelids 25%", n.Eyelids(0.25)),
         ("follow human", n.Follow("human")),
         ("follow left arm dynamic", n.Follow("left arm", True)),
@@ -109,9 +110,9 @@ def test_blocks_and_definitions():
         """
     )
     define, repeat, together = script.body
-    assert define == n.Define("greet", (n.Emotion("happy"), n.Look(65, 0, 1.0)))
+    assert define == n.Define("greet", (n.Emotion("happy"), n.Look(65, 0, n.Timing(1.0))))
     assert repeat == n.Repeat(3, (n.Blink(), n.Wait(1.0)))
-    assert together == n.Together((n.Call("greet"), n.Wobble(0.3, 1.0)))
+    assert together == n.Together((n.Call("greet"), n.Wobble(0.3, n.Timing(1.0))))
     assert script.definitions == {"greet": define}
 
 
@@ -210,10 +211,11 @@ def test_the_longest_together_child_sets_its_length():
     assert seconds == 2.0
 
 
-def test_a_long_chain_of_definitions_does_not_exhaust_the_stack():
+def test_a_long_chain_of_definitions_does_not_exhaust_the_checkers_stack():
+    # Checked without recursion; refused because compiling it would recurse.
     chain = "\n".join(f"define d{i} {{ d{i + 1} }}" for i in range(3000))
-    script = parse(chain + "\ndefine d3000 { blink }\nd0")
-    assert len(script.definitions) == 3001
+    (found,) = errors(chain + "\ndefine d3000 { blink }\nd0")
+    assert found[:2] == (3002, 1) and "nest 3001 levels deep" in found[2]
 
 
 def test_nesting_is_bounded():
@@ -231,3 +233,158 @@ def test_keyword_list_matches_the_grammar():
             statement_starters.add(value)
     contextual = {"in", "up", "arm", "human", "off", "left", "right"}
     assert statement_starters - contextual == set(KEYWORDS)
+
+
+def test_an_unclosed_brace_does_not_hide_the_other_errors():
+    text = "repeat 3 {\n  blink\n  mouth smil\nhapy\ntogether {\n  look lft\n"
+    assert errors(text) == [
+        (1, 10, "this '{' is never closed"),
+        (3, 9, "unknown mouth 'smil'; did you mean 'smile'?"),
+        (4, 1, "unknown command 'hapy'; did you mean 'happy'?"),
+        (5, 10, "this '{' is never closed"),
+        (6, 8, "unknown direction 'lft'; did you mean 'left'?"),
+    ]
+
+
+def test_an_unclosed_brace_keeps_later_positions_and_line_numbers():
+    text = "repeat 2 {\n  blink\ndefine a { happy }\ndefine a { sad }\na"
+    assert errors(text) == [
+        (1, 10, "this '{' is never closed"),
+        (4, 1, "'a' is already defined on line 3"),
+    ]
+
+
+UNIT_HINT = "write the unit straight after the number, as in"
+
+
+@pytest.mark.parametrize(
+    "text, where, message",
+    [
+        ("look left in 0.5 s", (1, 18), f"unknown easing 's' in '0.5 s': {UNIT_HINT} '0.5s'"),
+        ("wobble 20 deg", (1, 11), f"unknown easing 'deg' in '20 deg': {UNIT_HINT} '20deg'"),
+        ("wait 1 ms", (1, 8), f"unexpected 'ms' in '1 ms': {UNIT_HINT} '1ms'"),
+        ("eyelids 50 %", (1, 12), f"unexpected '%' in '50 %': {UNIT_HINT} '50%'"),
+        ("look 40 px -20", (1, 9), f"unexpected 'px' in '40 px': {UNIT_HINT} '40px'"),
+    ],
+)
+def test_a_unit_apart_from_its_number_is_explained(text, where, message):
+    assert [(line, column, m) for line, column, m in errors(text) if "unit" in m] == [(*where, message)]
+
+
+def test_a_misspelt_direction_keeps_its_own_suggestion_beside_the_unit_hint():
+    assert errors("look lft in 0.5 s") == [
+        (1, 6, "unknown direction 'lft'; did you mean 'left'?"),
+        (1, 17, f"unknown easing 's' in '0.5 s': {UNIT_HINT} '0.5s'"),
+    ]
+
+
+def warnings(text):
+    return [(d.line, d.column, d.message) for d in parse(text).warnings]
+
+
+@pytest.mark.parametrize(
+    "text, where, exit_line",
+    [
+        ("happy\nexit\nblink\nsad", (3, 1), 2),
+        ("repeat 2 { happy; exit; sad }", (1, 25), 1),
+        ("together { exit; nod }", (1, 18), 1),
+        ("together { blink; repeat 3 { exit } }\nhappy", (2, 1), 1),
+        ("define bye { sad\n exit }\nbye\nblink", (4, 1), 2),
+    ],
+)
+def test_what_follows_exit_is_warned_about(text, where, exit_line):
+    assert warnings(text) == [(*where, f"never runs: 'exit' on line {exit_line} ends the script")]
+
+
+def test_the_warned_statement_is_really_dropped():
+    from baxterface_cli.timeline import compile_script
+
+    script = parse("happy\nexit\nblink")
+    assert [s.line for s in compile_script(script).spans] == [1, 2]
+    assert warnings("happy\nexit") == [] and warnings("define d { exit }\nblink\nd") == []
+
+
+def definition_chain(count):
+    """`define d0 { blink }`, each next one calling the last, then a call of the last."""
+    lines = ["define d0 { blink }"] + [f"define d{i} {{ d{i - 1} }}" for i in range(1, count)]
+    return "\n".join(lines + [f"d{count - 1}"])
+
+
+def togethers(depth, inner):
+    return "together { " * depth + inner + " }" * depth
+
+
+def stack_depth():
+    frame, depth = sys._getframe(), 0
+    while frame is not None:
+        frame, depth = frame.f_back, depth + 1
+    return depth
+
+
+def test_a_script_nested_to_the_limit_compiles_in_a_third_of_the_default_stack():
+    from baxterface_cli.timeline import compile_script
+
+    # `b` nests 1 + 31 blocks + 1 + 31 blocks = 64 levels, most of them
+    # `together`, which costs the compiler the most frames a level.
+    text = f"define a {{ {togethers(31, 'blink')} }}\ndefine b {{ {togethers(31, 'a')} }}\nb"
+    assert LIMITS.max_nesting == 64
+    script = parse(text)
+    limit = sys.getrecursionlimit()
+    sys.setrecursionlimit(stack_depth() + 1000 // 3)
+    try:
+        timeline = compile_script(script)
+    finally:
+        sys.setrecursionlimit(limit)
+    assert timeline.duration > 0
+    assert "nest 65 levels deep" in errors(text[:-1] + "together { b }")[0][2]
+
+
+@pytest.mark.parametrize(
+    "text, where, depth",
+    [
+        (definition_chain(65), (66, 1), 65),
+        (definition_chain(331), (332, 1), 331),
+        (definition_chain(500), (501, 1), 500),
+        (
+            "\n".join(
+                [f"define t0 {{ {togethers(31, 'blink')} }}"]
+                + [f"define t{i} {{ {togethers(31, f't{i - 1}')} }}" for i in range(1, 9)]
+                + ["t8"]
+            ),
+            (10, 1),
+            288,
+        ),
+    ],
+)
+def test_nesting_through_definitions_is_bounded(text, where, depth):
+    message = (
+        f"blocks and calls nest {depth} levels deep here, counting each call into a definition; "
+        "the limit is 64 levels"
+    )
+    assert errors(text) == [(*where, message)]
+
+
+def test_the_size_limit_counts_utf8_bytes_not_characters():
+    emoji = "\N{GRINNING FACE}" * (LIMITS.max_bytes // 4 + 1)
+    found = errors(emoji)
+    assert found == [(0, 0, f"script is too large ({len(emoji) * 4} bytes; the limit is {LIMITS.max_bytes})")]
+    parse("# " + "\N{GRINNING FACE}" * (LIMITS.max_bytes // 4 - 3) + "\nhappy")
+
+
+def test_a_flood_of_errors_keeps_the_first_and_counts_the_rest():
+    with pytest.raises(ScriptError) as caught:
+        parse("a\n" * 1000 + "hapy\n", "display_chatter")
+    e = caught.value
+    assert len(e.diagnostics) == LIMITS.max_shown and e.more_errors == 1001 - LIMITS.max_shown
+    assert e.render().splitlines()[-1] == "display_chatter: ... and 951 more errors"
+    assert e.summary() == "display_chatter:1:1: error: unknown command 'a' (and 1000 more problems)"
+
+
+def test_errors_are_kept_before_warnings():
+    with pytest.raises(ScriptError) as caught:
+        parse("look 500 0 in 0s\n" * 100 + "hapy\n")
+    e = caught.value
+    assert e.errors[0].message.startswith("unknown command 'hapy'")
+    assert (len(e.diagnostics), e.more_errors, e.more_warnings) == (50, 0, 51)
+    script = parse("look 500 0 in 0s\n" * 60)
+    assert (len(script.warnings), script.more_warnings) == (50, 10)

@@ -5,6 +5,7 @@ from __future__ import annotations
 import pytest
 
 from baxterface_cli import ScriptError
+from baxterface_cli import effects as fx
 from baxterface_cli.live import LiveFace, sleep_face
 
 
@@ -32,17 +33,18 @@ def test_actions_are_handed_out_once_when_due():
     live = LiveFace(idle=False, seed=1)
     live.command("wait 1s; enable; follow human; wobble 0.3", now=0.0)
     assert live.due(0.5) == []
-    kinds = [a.kind for a in live.due(1.0)]
-    assert kinds == ["enable", "follow", "head"]
+    effects = [c.effect for c in live.due(1.0)]
+    assert effects[:2] == [fx.SetEnabled(True), fx.Follow("human")]
+    assert isinstance(effects[2], fx.HeadPan) and effects[2].target == pytest.approx(0.3)
     assert live.due(2.0) == []
-    assert live.following == ("human", False)
+    assert (live.robot.following, live.robot.follow_dynamic) == ("human", False)
 
 
 def test_a_new_command_drops_the_old_ones_pending_actions():
     live = LiveFace(idle=False, seed=1)
     live.command("wait 5s; wobble 1", now=0.0)
     live.command("happy", now=1.0)
-    assert all(a.kind != "head" for a in live.due(10.0))
+    assert not any(isinstance(c.effect, fx.HeadPan) for c in live.due(10.0))
 
 
 def test_bad_commands_raise_and_change_nothing():
@@ -65,5 +67,16 @@ def test_exit_marks_the_face_as_finished_on_the_sleep_face():
     live.command("happy; exit", now=0.0)
     end = live.timeline.duration
     assert not live.exited and live.due(end - 0.01) == []
-    assert [a.kind for a in live.due(end)] == ["exit"] and live.exited
+    assert [c.effect for c in live.due(end)] == [fx.Exit()] and live.exited
     assert live.state(end).skin == sleep_face().skin
+
+
+def test_the_emotion_is_the_one_the_face_shows_now_not_the_scripts_last():
+    live = LiveFace(start=sleep_face(), idle=False, seed=1)
+    assert live.state(0.0).emotion == "sleep"
+    live.command("happy; wait 6; sad; wait 6; angry", now=10.0)
+    assert live.state(12.0).emotion == "happy"
+    assert live.state(18.0).emotion == "sad"
+    assert live.state(25.0).emotion == "angry"
+    live.command("look left", now=30.0)  # a script with no emotion keeps the face's
+    assert live.state(31.0).emotion == "angry"

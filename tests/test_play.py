@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import os
 import random
+import re
 import shutil
 import subprocess
 import sys
@@ -45,6 +46,20 @@ def test_play_in_a_terminal_draws_truecolor_half_blocks_and_a_status_line():
     assert "(terminal)" in screen
     child.close()
     assert child.exitstatus == 0
+
+
+def test_ctrl_c_says_how_far_it_got_and_exits_130():
+    child = spawn_play("-e", "look left in 10s")
+    child.expect(r"/10\.0s")  # the status line: it is playing
+    time.sleep(0.5)
+    child.sendintr()
+    child.expect(pexpect.EOF)
+    child.close()
+    assert child.exitstatus == 130
+    found = re.search(r"interrupted at (\d+\.\d\d) s of 10\.00 s of script, after ([\d.]+) s", child.before)
+    assert found, child.before[-300:]
+    reached, after = map(float, found.groups())
+    assert 0.0 < reached < 10.0 and reached <= after  # part of the way, no further than time allowed
 
 
 def test_the_terminal_picture_keeps_the_faces_shape():

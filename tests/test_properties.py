@@ -17,8 +17,10 @@ from hypothesis.extra.lark import from_lark
 from lark.lexer import PatternStr
 
 from baxterface_cli import ScriptError, parse
+from baxterface_cli.checker import measure
 from baxterface_cli.parser import decode, grammar
 from baxterface_cli.tables import BROWS, DIRECTIONS, MOUTHS
+from baxterface_cli.timeline import compile_script, state_record
 from baxterface_cli.vocabulary import BARE_WORDS
 
 pytestmark = pytest.mark.language
@@ -145,3 +147,21 @@ def test_arbitrary_bytes_raise_only_script_errors(data):
     except ScriptError:
         return
     only_script_errors(text)
+
+
+@settings(max_examples=150, deadline=None, suppress_health_check=list(HealthCheck))
+@given(st.one_of(scripts, st.lists(fragments, max_size=40).map(" ".join), st.text(max_size=200)))
+def test_what_parses_compiles_samples_and_explains(text):
+    # Whatever `check` accepts must compile and play: nothing but a
+    # ScriptError may escape, from any step.
+    try:
+        script = parse(text)
+    except ScriptError:
+        return
+    if measure(script.body, {})[1] > 5000:  # unrolled size, kept small for speed
+        return
+    timeline = compile_script(script, seed=1)
+    for t in (0.0, timeline.duration / 3, timeline.duration, timeline.duration + 1.0):
+        state_record(t, timeline.sample(t), timeline.status(t))
+    assert all(span.text for span in timeline.spans)
+    assert timeline.frame_times(2.0)[-1] <= timeline.duration + 1e-9

@@ -9,6 +9,8 @@ from __future__ import annotations
 import json
 import os
 import random
+import shlex
+import shutil
 import signal
 import socket
 import struct
@@ -319,13 +321,109 @@ def test_send_checks_first_and_needs_a_listener(ros, node):
 
 
 def test_queued_scripts_play_after_the_current_one(ros, node):
+    import rospy
+    from std_msgs.msg import String
+
     proc, state = node
-    run = lambda *a: baxterface("send", *a, env=ros)  # noqa: E731
-    assert run("look 40 0 in 2s").code == 0
-    assert run("--queue", "skin 0").code == 0
+    now = rospy.Publisher("/display_chatter", String, queue_size=10)
+    later = rospy.Publisher("/baxter_face/queue", String, queue_size=10)
+    wait_for_listeners(now, later)
+    # Published from here, not by starting `send` twice, so nothing slow sits
+    # between the two: the second message comes while the first is playing.
+    now.publish(String("look 40 0 in 3s"))
+    report(state, test=lambda r: r["playing"] and r["eye_x"] > 0)
+    later.publish(String("skin 0"))
     first = report(state, test=lambda r: r["queued"] == 1)
-    assert first["skin"] != 0
-    assert report(state, test=lambda r: r["skin"] == 0 and r["queued"] == 0, timeout=10)["eye_x"] == 40.0
+    assert first["skin"] != 0 and first["eye_x"] < 40
+    assert report(state, test=lambda r: r["skin"] == 0 and r["queued"] == 0, timeout=15)["eye_x"] == 40.0
+    now.unregister()
+    later.unregister()
+
+
+def test_send_queue_reaches_the_queue_topic(ros, node):
+    proc, state = node
+    assert baxterface("send", "--queue", "skin 4", env=ros).code == 0
+    report(state, test=lambda r: r["skin"] == 4)
+
+
+def wait_for_listeners(*publishers, timeout=15.0):
+    deadline = time.monotonic() + timeout
+    while any(p.get_num_connections() == 0 for p in publishers):
+        assert time.monotonic() < deadline, "nothing subscribed"
+        time.sleep(0.02)
+
+
+def test_state_says_the_emotion_shown_now_not_the_scripts_last(ros, node):
+    proc, state = node
+    rostopic_pub(ros, "happy; wait 6; sad; wait 6; angry")
+    shown = report(state, test=lambda r: r["playing"] and r["emotion"] != "sleep")
+    assert shown["emotion"] == "happy"
+    seen = len(state.messages)
+    assert report(state, after=seen, test=lambda r: r["emotion"] != "happy", timeout=20)["emotion"] == "sad"
+
+
+def head_commands_from(ros, run):
+    """The head pan commands a run sends, each as (seconds after the first, target, speed)."""
+    from baxterface_cli.ros.messages import message_class
+
+    pan = Topic("/robot/head/command_head_pan", message_class("HeadPanCommand"))
+    time.sleep(0.5)
+    run()
+    pan.wait_for(lambda m: abs(m.target + 0.4) < 1e-6, timeout=20)
+    pan.close()
+    first = pan.messages[0][0]
+    # A command repeated while the head is on its way is the same command.
+    distinct = []
+    for at, m in pan.messages:
+        if not distinct or (round(m.target, 4), round(m.speed_ratio, 4)) != distinct[-1][1:]:
+            distinct.append((at - first, round(m.target, 4), round(m.speed_ratio, 4)))
+    return distinct
+
+
+SCRIPT_FOR_THE_HEAD = "wobble 0.5 in 2s; wait 0.5; wobble -0.4 in 0.3s"
+
+
+def test_node_and_stream_send_the_same_head_commands_at_the_same_times(ros):
+    from std_msgs.msg import String
+
+    # No head answers here, so each keeps asking for its last pan: one at a time.
+    from_stream = head_commands_from(
+        ros, lambda: baxterface("stream", "--no-idle", "-e", SCRIPT_FOR_THE_HEAD, env=ros)
+    )
+    state = Topic("/baxter_face/state", String)
+    proc = start_node(ros)
+    try:
+        state.wait_for(timeout=30)
+        from_node = head_commands_from(ros, lambda: rostopic_pub(ros, SCRIPT_FOR_THE_HEAD))
+    finally:
+        proc.send_signal(signal.SIGTERM)
+        proc.wait(timeout=20)
+        state.close()
+    assert [c[1:] for c in from_node] == [c[1:] for c in from_stream] == [(0.5, 0.25), (-0.4, 1.0)]
+    # 2.5 s apart in both, within a frame or two of scheduling
+    for commands in (from_node, from_stream):
+        assert commands[1][0] == pytest.approx(2.5, abs=0.1)
+
+
+def test_stream_does_not_turn_the_head_of_a_disabled_robot(ros):
+    import rospy
+
+    from baxterface_cli.ros.messages import message_class
+
+    AssemblyState = message_class("AssemblyState")
+    robot = rospy.Publisher("/robot/state", AssemblyState, latch=True, queue_size=1)
+    robot.publish(AssemblyState(enabled=False))
+    pan = Topic("/robot/head/command_head_pan", message_class("HeadPanCommand"))
+    try:
+        run = baxterface("stream", "--no-idle", "-e", "wait 0.5; wobble 0.5 in 0.2s", env=ros)
+        assert run.code == 0, run.err
+        assert pan.messages == []
+        assert "the robot is disabled: not turning the head to 0.50 rad" in run.err
+    finally:
+        robot.publish(AssemblyState(enabled=True))
+        time.sleep(0.3)
+        robot.unregister()
+        pan.close()
 
 
 @pytest.mark.parametrize("robot, topic", [("baxter", "/robot/xdisplay"), ("sawyer", "/robot/head_display")])
@@ -515,3 +613,191 @@ def test_bad_parameters_stop_the_node_with_one_line(ros, arg, message):
         forget_parameters(ros)
     assert proc.code == 1
     assert message in proc.err and "Traceback" not in proc.err
+
+
+def rss_mb(pid):
+    for line in Path(f"/proc/{pid}/status").read_text().splitlines():
+        if line.startswith("VmRSS:"):
+            return int(line.split()[1]) / 1024
+    return 0.0
+
+
+def strict_json(text):
+    def refuse(constant):
+        raise ValueError(f"{constant} is not JSON")
+
+    return json.loads(text, parse_constant=refuse)
+
+
+def test_a_flood_of_good_bad_and_huge_commands_never_stops_the_frames(ros, node):
+    import rospy
+    from sensor_msgs.msg import Image
+    from std_msgs.msg import String
+
+    proc, state = node
+    chatter = rospy.Publisher("/display_chatter", String, queue_size=1000)
+    queued = rospy.Publisher("/baxter_face/queue", String, queue_size=1000)
+    wait_for_listeners(chatter, queued)
+    screen = Topic("/robot/xdisplay", Image)
+    moving = "repeat 100 { look 60 0 in 1s; look -60 0 in 1s }"  # every frame differs, for minutes
+    chatter.publish(String(moving))
+    screen.wait_for(timeout=15)
+    before = rss_mb(proc.pid)
+    line = "look 40 -20 in 0.05s; look -40 20 in 0.05s\n"
+    huge = line * (250 * 1024 // len(line))  # valid, near the size limit, slow to parse
+    # Every good one keeps the eyes moving, so any gap between frames is the node's.
+    mixed = [moving, "hapy", "a\n" * 100_000, huge, "look_a_b", "x" * 300_000]
+    start = len(screen.messages)
+    for i in range(300):  # bounded: a few seconds of flood
+        chatter.publish(String(mixed[i % len(mixed)]))
+        if i % 10 == 0:
+            queued.publish(String(huge))
+        time.sleep(0.005)
+    time.sleep(3.0)
+    chatter.publish(String(moving))
+    time.sleep(1.0)
+    times = [t for t, _ in screen.messages[start:]]
+    gaps = [b - a for a, b in zip(times, times[1:])]
+    assert times and max(gaps) < 0.2, f"largest gap between frames {max(gaps):.3f} s"
+    assert proc.poll() is None
+    assert rss_mb(proc.pid) < before + 400  # bounded: the waiting room is small
+    strict_json(state.messages[-1][1].data)
+    begin = time.monotonic()
+    for _ in range(20):  # something still pending when it is asked to stop
+        chatter.publish(String(huge))
+    proc.send_signal(signal.SIGTERM)
+    assert proc.wait(timeout=10) == 0
+    assert time.monotonic() - begin < 5  # was 19 s with a backlog; docs/ros.md has the figure
+    screen.close()
+    chatter.unregister()
+    queued.unregister()
+
+
+def test_a_head_state_that_is_not_a_number_never_reaches_state_as_invalid_json(ros, node):
+    import rospy
+
+    from baxterface_cli.ros.messages import message_class
+
+    HeadState = message_class("HeadState")
+    proc, state = node
+    head = rospy.Publisher("/robot/head/head_state", HeadState, queue_size=10)
+    wait_for_listeners(head)
+    head.publish(HeadState(pan=0.25))
+    report(state, test=lambda r: r["head_pan"] == 0.25)
+    for bad in (float("nan"), float("inf"), float("-inf")):
+        head.publish(HeadState(pan=bad))
+    rostopic_pub(ros, "happy")
+    shown = report(state, test=lambda r: r["emotion"] == "happy")
+    assert shown["head_pan"] == 0.25
+    for _, msg in state.messages:
+        strict_json(msg.data)
+    head.unregister()
+
+
+def test_a_restarted_master_gets_a_working_face_again(tmp_path):
+    from std_msgs.msg import String
+
+    port = free_port()
+    env = dict(
+        os.environ, ROS_MASTER_URI=f"http://127.0.0.1:{port}", ROS_IP="127.0.0.1", ROS_HOME=str(tmp_path)
+    )
+
+    def roscore():
+        core = subprocess.Popen(
+            ["roscore", "-p", str(port)], env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL
+        )
+        deadline = time.monotonic() + 30
+        while subprocess.run(["rosnode", "list"], env=env, capture_output=True).returncode != 0:
+            assert time.monotonic() < deadline and core.poll() is None
+            time.sleep(0.2)
+        return core
+
+    def face_answers():
+        run = subprocess.run(
+            ["rostopic", "echo", "-n", "1", "/baxter_face/state"], env=env, capture_output=True, timeout=30
+        )
+        return run.returncode == 0 and b"emotion" in run.stdout
+
+    core = roscore()
+    node = subprocess.Popen(
+        [sys.executable, "-m", "baxterface_cli", "node", "_idle:=false"],
+        cwd=str(ROOT),
+        env=env,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+    )
+    try:
+        assert face_answers()
+        core.send_signal(signal.SIGINT)
+        core.wait(timeout=30)
+        core = roscore()
+        deadline = time.monotonic() + 20
+        while not face_answers():
+            assert time.monotonic() < deadline, "the node never registered with the new master"
+        sent = baxterface("send", "sad", env=env)
+        assert sent.code == 0, sent.err
+        assert node.poll() is None
+    finally:
+        node.send_signal(signal.SIGTERM)
+        out = node.communicate(timeout=20)[0]
+        core.send_signal(signal.SIGINT)
+        core.wait(timeout=30)
+    assert b"the ROS master was restarted: registering again" in out
+    del String
+
+
+def ros_console_examples():
+    from test_docs import ELSEWHERE, console_examples
+
+    return [e for e in console_examples() if e[1].startswith(ELSEWHERE) and not e[1].startswith("make ")]
+
+
+@pytest.mark.parametrize("doc, command, expected", ros_console_examples(), ids=lambda v: str(v)[:60])
+def test_ros_console_examples_do_what_the_docs_show(ros, doc, command, expected, tmp_path):
+    """Each ROS command of the docs, run against a real master; long-running ones until they answer."""
+    from std_msgs.msg import String
+    from test_docs import doc_env, matches
+
+    env = dict(doc_env(), **{k: ros[k] for k in ("ROS_MASTER_URI", "ROS_IP", "ROS_HOME")})
+    env["ROS_PACKAGE_PATH"] = str(ROOT / "ros")
+    subprocess.run(["baxterface", "theme", "export", str(tmp_path / "my-theme")], env=env, check=True)
+    shutil.copytree(ROOT / "scripts_examples", tmp_path / "scripts_examples")
+    state = Topic("/baxter_face/state", String)
+    starts_a_node = command.startswith(("baxterface node", "roslaunch "))
+    face = None if starts_a_node else start_node(ros)
+    try:
+        if face is not None:
+            state.wait_for(timeout=30)
+            rostopic_pub(ros, "happy")
+            report(state, test=lambda r: r["emotion"] == "happy")
+        if starts_a_node:  # runs until stopped: it must come up and answer
+            proc = subprocess.Popen(shlex.split(command), cwd=str(tmp_path), env=env)
+            try:
+                state.wait_for(timeout=90)
+                proc.send_signal(signal.SIGINT)
+                assert proc.wait(timeout=60) == 0
+            finally:
+                if proc.poll() is None:  # never leave one behind for the next example
+                    proc.kill()
+                    proc.wait()
+            return
+        run = subprocess.run(
+            command, shell=True, cwd=str(tmp_path), env=env, capture_output=True, text=True, timeout=120
+        )
+        printed = (run.stdout + run.stderr).strip("\n").splitlines()
+        printed = [line for line in printed if not line.startswith("[")]  # rospy's own log lines
+        if command.startswith("rostopic echo"):  # a live face: the same fields, whatever their values
+            import yaml
+
+            shown = json.loads(yaml.safe_load("\n".join(expected))["data"])
+            assert set(json.loads(yaml.safe_load(run.stdout.split("---")[0])["data"])) == set(shown)
+        else:
+            failed = any(": error:" in line or line.startswith("baxterface ") for line in expected)
+            assert run.returncode == (1 if failed else 0), run.stderr
+            assert matches(expected, printed), printed
+    finally:
+        state.close()
+        if face is not None:
+            face.send_signal(signal.SIGTERM)
+            face.wait(timeout=20)
+        forget_parameters(ros)

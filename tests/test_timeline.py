@@ -6,7 +6,9 @@ import math
 
 import pytest
 
+from baxterface_cli import effects as fx
 from baxterface_cli import parse
+from baxterface_cli.effects import Cue
 from baxterface_cli.idle import Animation, Idle
 from baxterface_cli.state import FaceState, Parts
 from baxterface_cli.tables import EMOTIONS
@@ -102,11 +104,17 @@ def test_a_blink_closes_in_0_3s_and_opens_in_0_2s_to_where_the_lids_were():
     assert tl.duration == pytest.approx(0.5)
 
 
-def test_wobble_clamps_to_1_5_radians_and_is_a_robot_action():
+def test_wobble_clamps_to_1_5_radians_and_is_a_robot_effect():
     tl = timeline("wobble_2.0")
     assert tl.sample(tl.duration).head_pan == pytest.approx(1.5)
-    (action,) = tl.actions
-    assert (action.kind, action.value) == ("head", 1.5)
+    (cue,) = tl.cues
+    assert cue == Cue(0.0, fx.HeadPan(1.5, speed=1.0, duration=0.5))  # 1.5 rad in 0.5 s: top speed
+
+
+def test_a_head_pan_carries_the_speed_that_keeps_pace_with_the_script():
+    tl = timeline("wobble 0.5 in 2s; wobble -0.5 in 4s; wobble -0.5 in 1s")
+    speeds = [c.effect.speed for c in tl.cues]
+    assert speeds == pytest.approx([0.25, 0.25, 0.05])  # 0.5 rad in 2 s; 1 rad in 4 s; no move: the floor
 
 
 def test_dynamic_look_far_away_turns_the_head_and_recentres_the_eyes():
@@ -137,7 +145,7 @@ def test_robot_actions_show_in_the_status():
     tl = timeline("enable; follow human dynamic; wait 1s; follow off; nod; disable")
     assert tl.status(0.5).enabled is True
     assert tl.status(0.5).following == "human" and tl.status(0.5).follow_dynamic
-    assert tl.status(1.5).following is None and tl.status(1.5).nodding
+    assert tl.status(1.5).following is None and tl.status(1.5).nodding(1.5)
     assert tl.status(tl.duration).enabled is False
 
 

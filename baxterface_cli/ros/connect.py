@@ -16,12 +16,30 @@ class RosUnavailable(Exception):
     """ROS cannot be used from here; the message says why and what to do."""
 
 
+# Where ROS 1 puts rospy: Debian's packages, and a ROS distribution's own tree.
+ROS_PYTHON_PATHS = ("/usr/lib/python3/dist-packages", "/opt/ros/noetic/lib/python3/dist-packages")
+
+
 def require_ros() -> None:
     try:
         import cv_bridge  # noqa: F401
         import rospy  # noqa: F401
     except ImportError as e:
-        raise RosUnavailable(f"{INSTALL_HINT} ({e})") from None
+        raise RosUnavailable(f"{_why_not_here()} ({e})") from None
+
+
+def _why_not_here() -> str:
+    """How to get a Python that sees ROS: the common case is a virtual environment that cannot."""
+    import sys
+
+    installed = [p for p in ROS_PYTHON_PATHS if os.path.isdir(os.path.join(p, "rospy"))]
+    if installed and sys.prefix != sys.base_prefix:
+        return (
+            f"ROS is installed ({installed[0]}), but this virtual environment ({sys.prefix}) does not "
+            "see it; 'make ros' makes .venv-ros, one that does: run .venv-ros/bin/baxterface, "
+            "or make your own with 'python3 -m venv --system-site-packages'"
+        )
+    return INSTALL_HINT
 
 
 def require_master(timeout: float = 3.0) -> None:

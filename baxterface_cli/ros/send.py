@@ -5,12 +5,12 @@ from __future__ import annotations
 import time
 from typing import List, Optional
 
+from ..effects import Cue
 from ..idle import Animation
 from ..playback import Player
 from ..renderer import Renderer
-from ..timeline import Action
-from .messages import message_class
 from .node import DISPLAY_TOPICS
+from .robot_link import connect_robot
 
 
 class NoSubscriber(Exception):
@@ -60,27 +60,23 @@ class _RosScreen:
 
 
 def stream(animation: Animation, renderer: Renderer, robot: str, fps: float, argv: List[str]) -> float:
-    """Play `animation` on the robot's screen in real time, with its head commands."""
+    """Play `animation` on the robot's screen in real time, with its robot effects.
+
+    The effects go through the same core `Robot` as the face node's, so one
+    script sends the same commands at the same times from both.
+    """
     import rospy
-    from std_msgs.msg import Bool
 
     rospy.init_node("baxterface_stream", argv=argv, anonymous=True, disable_signals=True)
     screen = _RosScreen(DISPLAY_TOPICS[robot])
-    pan = rospy.Publisher("/robot/head/command_head_pan", message_class("HeadPanCommand"), queue_size=10)
-    nod = rospy.Publisher("/robot/head/command_head_nod", Bool, queue_size=1)
-    enable = rospy.Publisher("/robot/set_super_enable", Bool, queue_size=10)
+    arm = connect_robot(rospy)
     time.sleep(0.5)  # let subscribers connect before the first frame
-    pending: List[Action] = list(animation.timeline.actions)
+    pending: List[Cue] = list(animation.timeline.cues)
 
     def on_time(t: float) -> None:
         while pending and pending[0].at <= t:
-            action = pending.pop(0)
-            if action.kind == "head":
-                pan.publish(target=action.value, speed_ratio=1.0, enable_pan_request=1)
-            elif action.kind == "nod":
-                nod.publish(Bool(True))
-            elif action.kind in ("enable", "disable"):
-                enable.publish(Bool(action.kind == "enable"))
+            arm.take(pending.pop(0).effect, t)
+        arm.tick(t)
 
     player = Player(animation, renderer, screen, fps, on_time=on_time)
     played = player.run()
