@@ -21,7 +21,7 @@ import math
 from collections import deque
 from typing import Callable, Deque, Dict, Optional, Sequence, Tuple
 
-from .effects import EffectHandler, Exit, Follow, HeadNod, HeadPan, SetEnabled
+from .effects import Effect, EffectHandler, Exit, Follow, HeadNod, HeadPan, SetEnabled
 from .following import ArmFollower, HumanFollower
 from .geometry import clamp_to_ellipse, dynamic_look, to_pixels, to_radians
 from .state import FaceState
@@ -122,7 +122,7 @@ class Robot(EffectHandler):
 
     def __init__(
         self,
-        send: Callable[[object], None],
+        send: Callable[[Effect], None],
         warn: Callable[[str], None] = lambda text: None,
         info: Callable[[str], None] = lambda text: None,
     ) -> None:
@@ -162,8 +162,8 @@ class Robot(EffectHandler):
 
     # -- effects, as they fall due
 
-    def take(self, effect: object, now: float) -> None:
-        effect.visit(self, now)  # type: ignore[attr-defined]
+    def take(self, effect: Effect, now: float) -> None:
+        effect.visit(self, now)
 
     def head_pan(self, effect: HeadPan, now: float) -> None:
         if self.enabled is False:
