@@ -14,7 +14,6 @@ from . import __version__
 from .diagnostics import ScriptError, render_all
 from .nodes import Script, to_json
 from .parser import parse, parse_file
-from .theme import Theme, ThemeError, parse_size
 
 DEFAULT_SEED = 0  # render and explain are reproducible unless told otherwise
 
@@ -85,7 +84,7 @@ def echo_warnings(script: Script) -> None:
 
 def fitted_theme(theme: Optional[str], size: Optional[str]):
     """The theme's layers at the asked size, or a clear exit."""
-    from .theme import resolve
+    from .theme import ThemeError, resolve
 
     try:
         return resolve(theme).layers(_size(size) or (1024, 600))
@@ -334,6 +333,7 @@ def node(ctx: typer.Context) -> None:
     """
     _ros_ready("node")
     from .ros.node import run_node
+    from .theme import ThemeError
 
     try:
         code = run_node(["baxterface_node", *ctx.args])
@@ -509,6 +509,8 @@ app.add_typer(theme_app, name="theme")
 
 
 def _size(text: Optional[str]) -> Optional[tuple]:
+    from .theme import parse_size
+
     if text is None:
         return None
     try:
@@ -535,6 +537,8 @@ def theme_export(
     """
     if not folder:  # Path("") is the current folder
         raise typer.BadParameter("is empty; give a folder (./ for this one)", param_hint="DIR")
+    from .theme import Theme, ThemeError
+
     try:
         source = Theme.load(theme) if theme else Theme.default()
         written = source.export(folder, _size(size), force=force)
@@ -547,6 +551,8 @@ def theme_export(
 @theme_app.command("check")
 def theme_check(folder: str = typer.Argument(..., metavar="DIR", help="A theme folder.")) -> None:
     """Check that a theme folder has every layer, readable and of the right size."""
+    from .theme import Theme, ThemeError
+
     try:
         theme = Theme.load(folder)
         theme.layers(theme.size)

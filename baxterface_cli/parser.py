@@ -1,10 +1,10 @@
 """Text -> syntax tree -> AST, with every local check done on the way.
 
-The grammar (grammar/face.lark) gives the shape; `_Builder` turns lark's tree
-into `nodes` dataclasses, converting numbers with their units and checking
-names and ranges where the tokens are, so each diagnostic points at the exact
-column. Whole-script checks (definitions, recursion, length) are in
-`checker`.
+The grammar (grammar/face.lark) gives the shape; `_Builder` turns each rule
+lark reduces into `nodes` dataclasses as it parses (no tree is built first),
+converting numbers with their units and checking names and ranges where the
+tokens are, so each diagnostic points at the exact column. Whole-script
+checks (definitions, recursion, length) are in `checker`.
 """
 
 from __future__ import annotations
@@ -13,11 +13,12 @@ import bisect
 import itertools
 import math
 import re
+import threading
 from functools import lru_cache
 from pathlib import Path
-from typing import Any, Callable, List, Optional, Set, Tuple, Union
+from typing import Any, Callable, Dict, List, Optional, Set, Tuple, Union
 
-from lark import Lark, Token, Transformer, Tree
+from lark import Lark, Token, Transformer
 from lark.exceptions import UnexpectedCharacters, UnexpectedInput, UnexpectedToken, VisitError
 from lark.lexer import PatternStr
 
@@ -36,9 +37,26 @@ _LEGACY_NUMBER = re.compile(r"_([-+]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+))")
 
 @lru_cache(maxsize=1)
 def grammar() -> Lark:
-    """The one grammar, built once."""
-    text = resource("grammar/face.lark").read_text(encoding="utf-8")
-    return Lark(text, parser="lalr", maybe_placeholders=False)
+    """The one grammar, built once, giving lark trees (for tools and tests)."""
+    return Lark(_grammar_text(), parser="lalr", maybe_placeholders=False)
+
+
+@lru_cache(maxsize=1)
+def _grammar_text() -> str:
+    return resource("grammar/face.lark").read_text(encoding="utf-8")
+
+
+class _Parser:
+    """A thread's parser, with the builder lark calls as it reduces.
+
+    Building while parsing skips making and walking a tree: a third of the
+    time of a big script. The builder holds one parse's state, so each
+    thread has its own.
+    """
+
+    def __init__(self) -> None:
+        self.builder = _Builder()
+        self.lark = Lark(_grammar_text(), parser="lalr", maybe_placeholders=False, transformer=self.builder)
 
 
 def parse(text: str, filename: str = "<script>") -> n.Script:
@@ -55,7 +73,11 @@ def parse(text: str, filename: str = "<script>") -> n.Script:
         message = f"script is too large ({size} bytes; the limit is {LIMITS.max_bytes})"
         diagnostics.append(Diagnostic(0, 0, message))
     else:
-        body, legacy = _build(text, diagnostics)
+        too_long = _past_piece_limit(text)
+        if too_long is not None:
+            diagnostics.append(too_long)
+        else:
+            body, legacy = _build(text, diagnostics)
     shown, more_errors, more_warnings = keep_first(diagnostics)
     if more_errors or any(d.severity == "error" for d in shown):
         raise ScriptError(shown, filename, text, more_errors, more_warnings)
@@ -69,6 +91,23 @@ def _size(text: str) -> int:
     return len(text.encode("utf-8", "surrogatepass"))
 
 
+_PIECE = re.compile(r"[^\s;{}#]+|[;{}]|\n\s*|#[^\n]*")
+
+
+def _past_piece_limit(text: str) -> Optional[Diagnostic]:
+    """An error at the first piece past `LIMITS.max_pieces`, or None; found at regex speed."""
+    if len(text) <= LIMITS.max_pieces:  # every piece takes a character at least
+        return None
+    beyond = next(itertools.islice(_PIECE.finditer(text), LIMITS.max_pieces, None), None)
+    if beyond is None:
+        return None
+    message = (
+        f"script is too long to read: more than {LIMITS.max_pieces} words, numbers and "
+        "separators; split it into smaller scripts"
+    )
+    return _diagnostic_at(text, beyond.start(), message)._replace(kind="semantic")
+
+
 def _build(text: str, diagnostics: List[Diagnostic]) -> Tuple[Tuple[Any, ...], bool]:
     """The AST and whether it is legacy spelling; every problem goes to `diagnostics`."""
     braces, closed, virtual = _close_braces(text)
@@ -76,30 +115,18 @@ def _build(text: str, diagnostics: List[Diagnostic]) -> Tuple[Tuple[Any, ...], b
     if virtual is None:
         return (), False
     found: List[Diagnostic] = []
+    builder = _parser().builder
+    builder.begin(closed, lambda line: _unshifted(line, virtual) or line)
     statements = _parse_recovering(closed, found)
-    body: Tuple[Any, ...] = ()
-    if statements is not None:
-        builder = _Builder(found, closed, lambda line: _unshifted(line, virtual) or line)
-        try:
-            body = builder.transform(Tree("start", statements))
-        except VisitError as e:  # a bug of ours, not the user's: let it show
-            raise e.orig_exc from e
     for d in found:
         line = _unshifted(d.line, virtual) if d.line else 0
         if line is not None:  # None: on a '}' we added, so the user's text is not at fault
             diagnostics.append(d._replace(line=line))
     if statements is None:
         return (), False
+    body = tuple(statements)
     diagnostics.extend(check(body))
-    return body, _legacy_spelling(statements)
-
-
-def _legacy_spelling(statements: List[Any]) -> bool:
-    """Is every statement one of the old node's commands, as it typed them?"""
-    return bool(statements) and all(
-        s.data == "legacy" or (s.data == "word" and str(s.children[0]).lower() in LEGACY_WORDS)
-        for s in statements
-    )
+    return body, builder.legacy_spelling(body)
 
 
 def parse_file(path: Union[str, Path, Any], display_name: Optional[str] = None) -> n.Script:
@@ -230,11 +257,17 @@ def _parse_recovering(text: str, diagnostics: List[Diagnostic]) -> Optional[List
     statements: List[Any] = []
     budget = _RECOVERY_BUDGET
     errors = 0
+    parser = _parser()
+    builder = parser.builder
     for start, end in _chunks(text):
         chunk = _filler(text, start) + text[start:end]
         while True:
+            built: List[Diagnostic] = []  # dropped if this try fails: the retry builds again
+            builder.diagnostics = built
             try:
-                tree = grammar().parse(chunk)
+                tree = parser.lark.parse(chunk)
+            except VisitError as e:  # a bug of ours, not the user's: let it show
+                raise e.orig_exc from e
             except UnexpectedInput as e:
                 diagnostics.append(_syntax_diagnostic(e, chunk))
                 errors += 1
@@ -249,7 +282,8 @@ def _parse_recovering(text: str, diagnostics: List[Diagnostic]) -> Optional[List
                     return None
                 chunk = repaired
             else:
-                statements.extend(tree.children)
+                diagnostics.extend(built)
+                statements.extend(tree)
                 break
     return statements
 
@@ -420,12 +454,23 @@ def _end_of(text: str) -> Tuple[int, int]:
 class _Builder(Transformer):
     """Builds AST nodes, recording a diagnostic for each bad value it meets."""
 
-    def __init__(self, diagnostics: List[Diagnostic], text: str, line: Callable[[int], int]) -> None:
-        super().__init__()
-        self.diagnostics = diagnostics
+    def begin(self, text: str, line: Callable[[int], int]) -> None:
+        """Start on a new text (lines as the parser sees them, mapped by `line`)."""
+        self.diagnostics: List[Diagnostic] = []
         self.text = text
         self.line = line  # the user's line for a line of `text`
         self.hints = Hints()
+        # Statements spelled as the old node's commands, by id; holding them
+        # keeps an id from being reused by a statement built later.
+        self._legacy: Dict[int, Any] = {}
+
+    def legacy_spelling(self, body: Tuple[Any, ...]) -> bool:
+        """Is every top-level statement one of the old node's commands, as it typed them?"""
+        return bool(body) and all(id(s) in self._legacy for s in body)
+
+    def _old(self, node: Any) -> Any:
+        self._legacy[id(node)] = node
+        return node
 
     # -- helpers
 
@@ -509,14 +554,16 @@ class _Builder(Transformer):
         (token,) = children
         name = str(token).lower()
         factory = BARE_WORDS.get(name)
-        if factory is not None:
-            return factory(pos=self._pos(token))
-        return n.Call(name, pos=self._pos(token))
+        node = factory(pos=self._pos(token)) if factory is not None else n.Call(name, pos=self._pos(token))
+        return self._old(node) if name in LEGACY_WORDS else node
 
     def wake_up(self, children: List[Token]) -> n.Emotion:
         return n.Emotion("wake up", pos=self._pos(children[0]))
 
     def legacy(self, children: List[Token]) -> Any:
+        return self._old(self._legacy_command(children))
+
+    def _legacy_command(self, children: List[Token]) -> Any:
         (token,) = children
         text = str(token).lower()
         numbers = list(_LEGACY_NUMBER.finditer(text))
@@ -636,3 +683,14 @@ class _Builder(Transformer):
 
 class _Direction(tuple):
     """A named direction's point, marked so that it is never warned about."""
+
+
+_LOCAL = threading.local()
+
+
+def _parser() -> _Parser:
+    """This thread's parser, made on first use."""
+    parser = getattr(_LOCAL, "parser", None)
+    if parser is None:
+        parser = _LOCAL.parser = _Parser()
+    return parser

@@ -110,6 +110,9 @@ class Limits(NamedTuple):
     """Bounds that keep any script cheap to check, compile and play."""
 
     max_bytes: int = 256 * 1024  # a script's text
+    # Words, numbers, separators and comments, counted before parsing: what
+    # parsing costs grows with them, and this keeps any text under a second.
+    max_pieces: int = 60_000
     max_depth: int = 32  # nested { } blocks, as written
     # Blocks and calls nested through definitions, as compiling recurses: at
     # about four Python frames a level, 64 stays under a third of Python's

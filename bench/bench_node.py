@@ -29,6 +29,8 @@ import threading
 import time
 from pathlib import Path
 
+from baxterface_cli.tables import LIMITS
+
 ROOT = Path(__file__).resolve().parent.parent
 RELAY = """
 import sys, rospy, numpy
@@ -86,7 +88,7 @@ def flood_figures(node, chatter, String, frames, seconds=10.0):
     """A flood of good, bad and maximum-size commands while the eyes move; then SIGTERM under load."""
     moving = "repeat 100 { look 60 0 in 1s; look -60 0 in 1s }"
     line = "look 40 -20 in 0.05s; look -40 20 in 0.05s\n"
-    huge = line * (250 * 1024 // len(line))
+    huge = line * (LIMITS.max_pieces // 12)  # 12 pieces a line: the largest valid script, slow to parse
     mixed = [moving, "hapy", "a\n" * 100_000, huge, "look_a_b", "x" * 300_000]
     chatter.publish(String(moving))
     time.sleep(1.0)

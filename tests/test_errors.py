@@ -57,7 +57,8 @@ FLOODS = {
 
 @pytest.mark.parametrize("line, code", FLOODS.values(), ids=list(FLOODS))
 def test_a_flood_of_problems_prints_the_first_and_counts_the_rest(tmp_path, line, code):
-    count = LIMITS.max_bytes // len(line)
+    pieces = len(line.split()) + 1  # words and the new line
+    count = min(LIMITS.max_bytes // len(line), LIMITS.max_pieces // pieces)
     path = tmp_path / "flood.face"
     path.write_text(line * count, encoding="utf-8")
     run = baxterface("check", str(path))
@@ -66,3 +67,17 @@ def test_a_flood_of_problems_prints_the_first_and_counts_the_rest(tmp_path, line
     assert len(heads) == LIMITS.max_shown
     what = "errors" if code else "warnings"
     assert run.err.splitlines()[-1] == f"{path}: ... and {count - LIMITS.max_shown} more {what}"
+
+
+def test_a_script_of_too_many_pieces_is_refused_at_the_first_one_past_the_limit(tmp_path):
+    lines = LIMITS.max_pieces // 2 + 10  # 'a' and a new line: two pieces each
+    path = tmp_path / "many.face"
+    path.write_text("a\n" * lines, encoding="utf-8")
+    run = baxterface("check", str(path))
+    first_past = LIMITS.max_pieces // 2 + 1
+    assert run.code == 1
+    assert run.err.splitlines()[0] == (
+        f"{path}:{first_past}:1: error: script is too long to read: more than {LIMITS.max_pieces} "
+        "words, numbers and separators; split it into smaller scripts"
+    )
+    assert "more errors" not in run.err  # one error, not a flood of unknown words

@@ -22,6 +22,7 @@ from pathlib import Path
 
 import pytest
 
+from baxterface_cli.tables import LIMITS
 from conftest import ROOT, baxterface
 
 pytestmark = pytest.mark.ros
@@ -644,7 +645,7 @@ def test_a_flood_of_good_bad_and_huge_commands_never_stops_the_frames(ros, node)
     screen.wait_for(timeout=15)
     before = rss_mb(proc.pid)
     line = "look 40 -20 in 0.05s; look -40 20 in 0.05s\n"
-    huge = line * (250 * 1024 // len(line))  # valid, near the size limit, slow to parse
+    huge = line * (LIMITS.max_pieces // 12)  # 12 pieces a line: the largest valid script, slow to parse
     # Every good one keeps the eyes moving, so any gap between frames is the node's.
     mixed = [moving, "hapy", "a\n" * 100_000, huge, "look_a_b", "x" * 300_000]
     start = len(screen.messages)
