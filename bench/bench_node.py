@@ -84,30 +84,27 @@ def rss_mb(pid: int) -> float:
     return 0.0
 
 
-def flood_figures(node, chatter, String, frames, seconds=10.0):
-    """A flood of good, bad and maximum-size commands while the eyes move; then SIGTERM under load."""
-    moving = "repeat 100 { look 60 0 in 1s; look -60 0 in 1s }"
-    line = "look 40 -20 in 0.05s; look -40 20 in 0.05s\n"
-    huge = line * (LIMITS.max_pieces // 12)  # 12 pieces a line: the largest valid script, slow to parse
-    mixed = [moving, "hapy", "a\n" * 100_000, huge, "look_a_b", "x" * 300_000]
-    chatter.publish(String(moving))
+def flood_figures(node, chatter, String, frames, env, seconds=10.0):
+    """A flood of good, bad and maximum-size commands while the eyes move; then SIGTERM under load.
+
+    The flood comes from a process of its own (tests/flooder.py), so this one
+    only receives frames: the gaps are the node's.
+    """
+    chatter.publish(String("repeat 100 { look 60 0 in 1s; look -60 0 in 1s }"))
     time.sleep(1.0)
-    before, start, sent = rss_mb(node.pid), len(frames.times), 0
-    began = time.monotonic()
-    while time.monotonic() - began < seconds:
-        chatter.publish(String(mixed[sent % len(mixed)]))
-        sent += 1
-        time.sleep(0.002)
-    spent = time.monotonic() - began
+    before, start = rss_mb(node.pid), len(frames.times)
+    flood = [sys.executable, str(ROOT / "tests" / "flooder.py"), str(seconds)]
+    rate = float(subprocess.run(flood, env=env, check=True, capture_output=True, text=True).stdout)
     times = frames.times[start:]
     gap = max((b - a for a, b in zip(times, times[1:])), default=float("inf"))
     after = rss_mb(node.pid)
+    huge = "look 40 -20 in 0.05s; look -40 20 in 0.05s\n" * (LIMITS.max_pieces // 12)
     for _ in range(20):
         chatter.publish(String(huge))
     stop = time.monotonic()
     node.send_signal(signal.SIGTERM)
     node.wait()
-    return sent / spent, gap * 1000, before, after, time.monotonic() - stop
+    return rate, gap * 1000, before, after, time.monotonic() - stop
 
 
 def cpu_seconds(pid: int) -> float:
@@ -162,7 +159,7 @@ def main() -> None:
         time.sleep(6.0)
         window = [t for t in frames.times[start:]]
         look_fps = (len(window) - 1) / (window[-1] - window[0]) if len(window) > 1 else 0.0
-        flood = flood_figures(node, chatter, String, frames)
+        flood = flood_figures(node, chatter, String, frames, env)
 
         idle = subprocess.Popen(
             [sys.executable, "-m", "baxterface_cli", "node", "_idle:=true"], cwd=str(ROOT), env=env

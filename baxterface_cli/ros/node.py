@@ -10,13 +10,16 @@ callbacks only hand messages over.
 
 from __future__ import annotations
 
+import gc
 import json
 import math
 import signal
+import sys
 import threading
 import time
 from typing import Any, List
 
+from ..backlog import Backlog
 from ..intake import Intake
 from ..live import LiveFace, sleep_face
 from ..renderer import Renderer, pose
@@ -30,6 +33,15 @@ STATE_EVERY = 0.1  # seconds between ~state messages while the face moves
 # After a command, the next frame comes this soon rather than at the next
 # tick: a move that starts now shows its first motion within ~10 ms.
 FIRST_MOTION = 0.010
+# The loop takes the GIL back several times a frame from threads that parse
+# commands and receive messages; each time it may wait a whole switch
+# interval (5 ms by default). 1 ms halved the worst frame gap under a flood.
+SWITCH_INTERVAL = 0.001
+# A full garbage collection walks every object that queued scripts hold and
+# stops the loop while it does (about 100 ms with a full queue of big ones).
+# Python's first two generations still collect young cycles; the full one is
+# left for this many of theirs rather than 10.
+FULL_COLLECTION_EVERY = 1000
 MASTER_CHECK = 1.0  # seconds between checks that the master still knows this node
 DISPLAY_TOPICS = {"baxter": "/robot/xdisplay", "sawyer": "/robot/head_display"}
 
@@ -68,7 +80,9 @@ class FaceNode:
         display = rospy.get_param("~display_topic", DISPLAY_TOPICS["baxter"])
         self.image_pub = rospy.Publisher(display, Image, latch=True, queue_size=1)
         self.state_pub = rospy.Publisher("~state", String, latch=True, queue_size=1)
-        self.robot = connect_robot(rospy)
+        levels = {"info": rospy.loginfo, "warn": rospy.logwarn, "error": rospy.logerr}
+        self.log = Backlog(lambda level, text: levels[level](text))  # never logs from the loop
+        self.robot = connect_robot(rospy, warn=self.log.warn, info=self.log.info)
 
         self.wake = threading.Event()
         self.stop = threading.Event()
@@ -99,7 +113,7 @@ class FaceNode:
     def _heard(self, msg: Any, queued: bool) -> None:
         refusal = self.intake.submit(msg.data, queued)  # parsed off the frame loop
         if refusal:
-            self.rospy.logwarn(refusal)
+            self.log.warn(refusal)
 
     def _sonar_cloud(self, msg: Any) -> None:
         """Check a sonar cloud and hand its (ids, distances) over; skip it, warning, if malformed."""
@@ -123,6 +137,9 @@ class FaceNode:
     # -- the loop
 
     def run(self) -> int:
+        sys.setswitchinterval(SWITCH_INTERVAL)
+        young, middle, _ = gc.get_threshold()
+        gc.set_threshold(young, middle, FULL_COLLECTION_EVERY)
         for signum in (signal.SIGINT, signal.SIGTERM):
             signal.signal(signum, lambda *_: (self.stop.set(), self.wake.set()))
         self.rospy.loginfo(
@@ -158,6 +175,8 @@ class FaceNode:
             self.wake.wait(max(0.0, next_tick - time.monotonic()))  # or until a command comes
             self.wake.clear()
         self.intake.close()
+        self.log.flush(timeout=0.3)
+        self.log.close()
         self.rospy.signal_shutdown("face node finished")
         return 0
 
@@ -172,14 +191,14 @@ class FaceNode:
             try:
                 master.lookupNode(self.rospy.get_name())
             except rosgraph.MasterError:  # up, but it has never heard of us: a new master
-                self.rospy.loginfo("the ROS master was restarted: registering again")
+                self.log.info("the ROS master was restarted: registering again")
                 register_again()
             except Exception:
                 pass  # down: rospy's own calls will fail until it is back
 
     def _take_commands(self, now: float) -> bool:
         """Start or queue what the intake has ready; True if something started now."""
-        took = self.intake.hand_over(now, warn=self.rospy.logwarn, error=self.rospy.logerr)
+        took = self.intake.hand_over(now, warn=self.log.warn, error=self.log.error)
         if took is not None:
             self.last_state_at = -math.inf  # report the change at once
         return bool(took)

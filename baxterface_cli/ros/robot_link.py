@@ -7,7 +7,7 @@ wires a core `Robot` to the topics for the face node and for `stream` alike.
 
 from __future__ import annotations
 
-from typing import Any, Dict, List, NamedTuple
+from typing import Any, Callable, Dict, List, NamedTuple, Optional
 
 from ..effects import EffectHandler, Exit, Follow, HeadNod, HeadPan, SetEnabled
 from ..robot import Robot
@@ -73,8 +73,13 @@ def message_type(type_name: str) -> Any:
     return getattr(importlib.import_module(f"{package}.msg"), name)
 
 
-def connect_robot(rospy: Any) -> Robot:
-    """A core `Robot` whose commands go out on the robot's topics and who hears its state."""
+def connect_robot(
+    rospy: Any, warn: Optional[Callable[[str], None]] = None, info: Optional[Callable[[str], None]] = None
+) -> Robot:
+    """A core `Robot` whose commands go out on the robot's topics and who hears its state.
+
+    It logs with `warn` and `info` (rospy's own by default).
+    """
     from .messages import message_class
 
     classes = {topic: message_type(kind) for topic, kind in COMMAND_TYPES.items()}
@@ -84,7 +89,7 @@ def connect_robot(rospy: Any) -> Robot:
         for command in ros_commands(effect):
             publishers[command.topic].publish(classes[command.topic](**command.fields))
 
-    robot = Robot(send, warn=rospy.logwarn, info=rospy.loginfo)
+    robot = Robot(send, warn=warn or rospy.logwarn, info=info or rospy.loginfo)
 
     def head_state(msg: Any) -> None:
         if not robot.heard_head(msg.pan):
