@@ -199,7 +199,7 @@ def main() -> None:
         )
     print(f"30 fps look animation reaching a subscriber: {look_fps:.1f} frames/s")
     rate, gap, before, after, exit_s = flood
-    print(f"flood of good, bad and 256 KiB commands for 10 s: {rate:.0f} commands/s absorbed")
+    print(f"flood of good, bad and maximum-size commands for 10 s: {rate:.0f} commands/s absorbed")
     print(
         f"  largest gap between frames {gap:.0f} ms; node memory {before:.0f} MB before, {after:.0f} MB after"
     )
