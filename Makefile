@@ -12,8 +12,10 @@ BIN := $(VENV)/bin
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 ROS_PACKAGES := ros-core python3-rospy python3-cv-bridge python3-sensor-msgs python3-std-msgs \
 	python3-geometry-msgs python3-genpy python3-rostopic
-# Xvfb: a screen for the tests of `play`'s window.
-TEST_PACKAGES := $(ROS_PACKAGES) python3-venv xvfb
+# Xvfb: a screen for the tests of `play`'s window; ffmpeg: ffprobe reads the videos written, and
+# the `ffmpeg` program is what `render` falls back to without PyAV.
+TEST_PACKAGES := $(ROS_PACKAGES) python3-venv xvfb ffmpeg
+EXTRAS := test,video,bag
 PIP_QUIET := --quiet --disable-pip-version-check
 
 .PHONY: play test lint format golden theme pictures bench system venv venv38 venv-ros ros clean
@@ -24,24 +26,25 @@ venv-ros: $(VENV_ROS)/.installed
 
 $(VENV)/.installed: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
-	$(BIN)/pip install $(PIP_QUIET) -e '.[test]'
+	$(BIN)/pip install $(PIP_QUIET) -e '.[$(EXTRAS)]'
 	touch $@
 
 $(VENV38)/.installed: pyproject.toml
 	@test -n "$(PY38)" || { echo "make: no Python 3.8 found (looked in ~/.pyenv/versions/3.8*); set PY38=/path/to/python3.8"; exit 1; }
 	$(PY38) -m venv $(VENV38)
-	$(VENV38)/bin/pip install $(PIP_QUIET) -e '.[test]'
+	$(VENV38)/bin/pip install $(PIP_QUIET) -e '.[$(EXTRAS)]'
 	touch $@
 
 # The ROS tests' environment: sees Debian's ROS packages, adds only what they lack.
 $(VENV_ROS)/.installed: pyproject.toml | system
 	$(ROS_PYTHON) -m venv --system-site-packages $(VENV_ROS)
-	$(VENV_ROS)/bin/pip install $(PIP_QUIET) -e '.[test]'
+	$(VENV_ROS)/bin/pip install $(PIP_QUIET) -e '.[$(EXTRAS)]'
 	touch $@
 
 # Debian packages: ROS 1 (roscore, rospy, cv_bridge; see ../shared/spec/baxter-ros.md) and Xvfb.
 system:
-	@command -v roscore >/dev/null 2>&1 && command -v Xvfb >/dev/null 2>&1 || { \
+	@command -v roscore >/dev/null 2>&1 && command -v Xvfb >/dev/null 2>&1 && \
+		command -v ffprobe >/dev/null 2>&1 || { \
 		$(SUDO) apt-get update -qq && \
 		$(SUDO) env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $(TEST_PACKAGES) >/dev/null; }
 
@@ -80,6 +83,7 @@ bench: venv venv-ros
 	$(VENV_ROS)/bin/python bench/bench_node.py
 	$(BIN)/python bench/bench_follow.py
 	$(BIN)/python bench/bench_check.py
+	$(BIN)/python bench/bench_export.py
 
 # A ROS-ready environment: installs ROS from Debian, then .venv-ros sees it.
 ros: venv-ros

@@ -12,6 +12,7 @@ import typer
 
 from . import __version__
 from .diagnostics import ScriptError, render_all
+from .extras import MissingTool
 from .nodes import Script, to_json
 from .parser import parse, parse_file
 
@@ -130,7 +131,11 @@ def animation_for(script: Script, seed: Optional[int], idle: bool, crossfade: Op
 def render(
     script_path: Optional[str] = SCRIPT_ARG,
     out: str = typer.Option(
-        ..., "--out", "-o", metavar="PATH", help="DIR/ for numbered PNGs, FILE.gif, or FILE.png."
+        ...,
+        "--out",
+        "-o",
+        metavar="PATH",
+        help="FILE.mp4, .webm, .gif, .webp, .apng, .bag, .png (one frame), or DIR/ for numbered PNGs.",
     ),
     inline: Optional[str] = INLINE_OPT,
     fps: float = typer.Option(30.0, "--fps", min=1.0, max=120.0, help=FPS_HELP),
@@ -143,24 +148,35 @@ def render(
     idle: bool = typer.Option(False, "--idle", help="Add idle blinks and eye darts."),
     crossfade: Optional[float] = CROSSFADE_OPT,
     quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress bar."),
+    robot: str = typer.Option(
+        "baxter", "--robot", metavar="NAME", help="For a .bag: baxter (/robot/xdisplay) or sawyer."
+    ),
 ) -> None:
-    """Render a script to image files: numbered PNGs, an animated GIF, or one PNG.
+    """Render a script to a video, an animation, a ROS bag or image files.
 
-    PATH ending in '/' (or an existing folder) gets frame_00000.png, ...;
-    a .gif gets a looping animation with the script's own timing; a .png gets
-    one frame, the last or the one at --at. Files appear only once complete.
+    The extension picks the format: .mp4 (H.264) and .webm (VP9) videos; .gif,
+    .webp and .apng looping animations; a .bag that `rosbag play` replays on
+    the robot; a .png gets one frame, the last or the one at --at; PATH ending
+    in '/' (or an existing folder) gets frame_00000.png, ... Files appear only
+    once complete.
     """
+    from .formats import FormatError, format_for
     from .renderer import Renderer
-    from .rendering import output_kind
     from .rendering import render as render_to
+    from .ros.robot_link import DISPLAY_TOPICS
 
     try:
-        kind = output_kind(out)
-    except ValueError as e:
+        fmt = format_for(out)
+    except FormatError as e:
         raise typer.BadParameter(str(e), param_hint="--out") from None
-    if at is not None and kind != "png":
+    if at is not None and not fmt.one_frame:
         raise typer.BadParameter(
-            "picks the frame of a .png; a .gif or a folder gets every frame", param_hint="--at"
+            "picks the frame of a .png; videos, animations, bags and folders get every frame",
+            param_hint="--at",
+        )
+    if robot not in DISPLAY_TOPICS:
+        raise typer.BadParameter(
+            f"must be {' or '.join(DISPLAY_TOPICS)}, not {robot!r}", param_hint="--robot"
         )
     animation = animation_for(script_from(script_path, inline, "render"), seed, idle, crossfade)
     if at is not None and at > animation.duration:
@@ -184,9 +200,14 @@ def render(
                     fps,
                     at,
                     lambda done, total: bar.update(task, completed=done, total=total),
+                    robot,
                 )
         else:
-            count = render_to(animation, renderer, out, fps, at)
+            count = render_to(animation, renderer, out, fps, at, robot=robot)
+    except MissingTool as e:
+        raise fail(f"baxterface render: {e}") from None
+    except FormatError as e:
+        raise fail(f"baxterface render: {e}", 2) from None
     except OSError as e:
         raise fail(f"baxterface render: cannot write {out}: {e.strerror or e}") from None
     if not quiet and sys.stderr.isatty():
@@ -430,7 +451,7 @@ def stream(
     Frames are drawn here and published as bgr8, with the script's head, nod
     and enable commands at their times.
     """
-    from .ros.node import DISPLAY_TOPICS
+    from .ros.robot_link import DISPLAY_TOPICS
 
     if robot not in DISPLAY_TOPICS:
         raise fail(f"baxterface stream: --robot must be {' or '.join(DISPLAY_TOPICS)}, not {robot!r}", 2)

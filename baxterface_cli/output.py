@@ -1,4 +1,4 @@
-"""Sinks that write frames to files: PNG images, numbered PNGs, animated GIFs.
+"""Sinks that write frames to image files: a PNG image, numbered PNGs, animated GIFs.
 
 Every file is written beside its final name (see partial.py) and renamed
 into place when complete, so an interrupted render leaves no half-written
@@ -12,12 +12,13 @@ import os
 import re
 from contextlib import contextmanager
 from pathlib import Path
-from typing import Iterable, Iterator, List, Optional, Tuple
+from typing import Iterable, Iterator, Optional, Tuple
 
 import numpy as np
 from PIL import GifImagePlugin, Image
 
 from . import partial
+from .formats import FrameSink
 from .partial import write_atomic
 
 TRANSPARENT = 255  # the GIF palette index meaning "as in the frame before"
@@ -33,10 +34,28 @@ def write_png(path: Path, frame_bgr: np.ndarray) -> None:
     write_atomic(path, data.getvalue())
 
 
+class PngStill(FrameSink):
+    """One frame as a PNG image: the last one given."""
+
+    def __init__(self, path: Path) -> None:
+        self.path = path
+        self.frame: Optional[np.ndarray] = None
+
+    def add(self, frame_bgr: np.ndarray, t: float = 0.0) -> None:
+        self.frame = frame_bgr
+
+    def close(self) -> None:
+        assert self.frame is not None, "a still needs a frame"
+        write_png(self.path, self.frame)
+
+    def abort(self) -> None:
+        pass  # nothing is written before close
+
+
 FRAME_NAME = re.compile(r"^frame_\d{5,}\.png$")  # what PngFolder writes, and all it replaces
 
 
-class PngFolder:
+class PngFolder(FrameSink):
     """Numbered PNG frames (frame_00000.png, ...) in a folder.
 
     Frames go to a hidden folder beside the target first and move in only
@@ -49,24 +68,20 @@ class PngFolder:
         self.staging = partial.create_folder(folder)
         self.count = 0
 
-    def add(self, frame_bgr: np.ndarray) -> None:
+    def add(self, frame_bgr: np.ndarray, t: float = 0.0) -> None:
         rgb = np.ascontiguousarray(frame_bgr[..., ::-1])
         Image.fromarray(rgb, "RGB").save(self.staging / f"frame_{self.count:05d}.png", compress_level=6)
         self.count += 1
 
-    def close(self) -> List[Path]:
+    def close(self) -> None:
         self.folder.mkdir(parents=True, exist_ok=True)
         with _locked(self.folder):  # two renders into one folder must not mix their frames
             for old in os.listdir(self.folder):
                 if FRAME_NAME.match(old):
                     (self.folder / old).unlink()
-            written = []
             for path in sorted(self.staging.iterdir()):
-                target = self.folder / path.name
-                os.replace(path, target)
-                written.append(target)
+                os.replace(path, self.folder / path.name)
         self.staging.rmdir()
-        return written
 
     def abort(self) -> None:
         partial.remove(self.staging)
@@ -114,7 +129,7 @@ def palette_lookup(palette: np.ndarray) -> np.ndarray:
     return best.reshape(side, side, side)
 
 
-class GifWriter:
+class GifWriter(FrameSink):
     """An animated, looping GIF, written as frames arrive.
 
     All frames share one palette (the face has few colours). Each frame
@@ -152,7 +167,7 @@ class GifWriter:
         s = self.shift
         return self.lut[bgr[..., 0] >> s, bgr[..., 1] >> s, bgr[..., 2] >> s]
 
-    def add(self, frame_bgr: np.ndarray) -> None:
+    def add(self, frame_bgr: np.ndarray, t: float = 0.0) -> None:
         if self.previous_bgr is None:
             index = self._index(frame_bgr)
             self.previous_bgr, self.previous_index = frame_bgr.copy(), index

@@ -1,31 +1,16 @@
-"""Render an animation to files: a folder of PNGs, an animated GIF, or one PNG."""
+"""Render an animation to a file or folder, in the format its name asks for (see formats.py)."""
 
 from __future__ import annotations
 
 from pathlib import Path
 from typing import Callable, List, Optional
 
-import numpy as np
-
+from .formats import Export, Format, format_for
 from .idle import Animation
-from .output import GifWriter, PngFolder, build_palette, write_png
 from .partial import remove_stale
 from .renderer import Renderer
 
 Progress = Callable[[int, int], None]  # (frames done, frames in all)
-
-
-def output_kind(path: str) -> str:
-    """ "folder", "gif" or "png", from how the user wrote the path."""
-    if not path:
-        # Path("") is the current folder: an empty variable would render there.
-        raise ValueError("--out is empty; give DIR/ (./ for this folder), FILE.gif or FILE.png")
-    if path.endswith(("/", "\\")) or Path(path).is_dir():
-        return "folder"
-    suffix = Path(path).suffix.lower()
-    if suffix in (".gif", ".png"):
-        return suffix[1:]
-    raise ValueError(f"--out must end in .gif or .png, or name a folder (end it with '/'), not {path!r}")
 
 
 def palette_times(animation: Animation) -> List[float]:
@@ -40,6 +25,19 @@ def palette_times(animation: Animation) -> List[float]:
     return sorted(times)[:40]
 
 
+def frame_times(fmt: Format, animation: Animation, fps: float, at: Optional[float]) -> List[float]:
+    """When each frame is sampled: one still, or the whole script at `fps`."""
+    duration = animation.duration
+    if fmt.one_frame:
+        return [duration if at is None else min(at, duration)]  # idle runs on past the end
+    if not fmt.exact_length:
+        return animation.timeline.frame_times(fps)
+    # `count` frames of 1/fps last the script to within half a frame; the
+    # last one shows the end itself, where the script leaves the face.
+    count = max(1, round(duration * fps))
+    return [i / fps for i in range(count - 1)] + [duration]
+
+
 def render(
     animation: Animation,
     renderer: Renderer,
@@ -47,33 +45,28 @@ def render(
     fps: float = 30.0,
     at: Optional[float] = None,
     progress: Optional[Progress] = None,
+    robot: str = "baxter",
 ) -> int:
-    """Write the animation to `out`; returns the number of frames written."""
-    kind = output_kind(out)
+    """Write the animation to `out`; returns the number of frames rendered."""
+    fmt = format_for(out)
     path = Path(out)
     # Partials are written beside the target: for a folder, beside the folder.
     path.parent.mkdir(parents=True, exist_ok=True)
     remove_stale(path.parent)
-    if kind == "png":
-        t = animation.duration if at is None else min(at, animation.duration)  # idle runs on past it
-        write_png(path, renderer.render(animation.sample(t)))
-        if progress:
-            progress(1, 1)
-        return 1
-    times = animation.timeline.frame_times(fps)
-    if kind == "gif":
-        palette = build_palette(
-            [
-                np.ascontiguousarray(renderer.render(animation.sample(t))[..., ::-1])
-                for t in palette_times(animation)
-            ]
-        )
-        sink = GifWriter(path, renderer.size, fps, palette)
-    else:
-        sink = PngFolder(path)
+    export = Export(
+        size=renderer.size,
+        fps=fps,
+        duration=animation.duration,
+        cues=animation.timeline.cues,
+        robot=robot,
+        frame_at=lambda t: renderer.render(animation.sample(t)),
+        palette_times=palette_times(animation),
+    )
+    times = frame_times(fmt, animation, fps, at)
+    sink = fmt.open(path, export)
     try:
         for i, t in enumerate(times):
-            sink.add(renderer.render(animation.sample(t)))
+            sink.add(renderer.render(animation.sample(t)), t)
             if progress:
                 progress(i + 1, len(times))
         sink.close()

@@ -1,4 +1,4 @@
-"""`baxterface render`: GIFs, PNG folders and single PNGs, as files a user gets."""
+"""`baxterface render`: GIFs, PNG folders and single PNGs, as files a user gets (videos: test_export)."""
 
 from __future__ import annotations
 
@@ -98,7 +98,7 @@ def test_the_script_can_come_from_a_file_or_standard_input(tmp_path):
     "args, code, message",
     [
         (["-e", "hapy", "--out", "x.gif"], 1, "<-e>:1:1: error: unknown command 'hapy'"),
-        (["-e", "happy", "--out", "x.mp4"], 2, "must end in .gif or .png"),
+        (["-e", "happy", "--out", "x.avi"], 2, "must end in .png, .gif, .mp4"),
         (["-e", "happy", "--out", "x.gif", "--size", "huge"], 2, "size must look like 1024x600"),
         (["-e", "happy", "--out", "x.gif", "--theme", "/nonexistent"], 1, "not a theme folder"),
         (["s.face", "-e", "happy", "--out", "x.gif"], 2, "not both"),
@@ -117,7 +117,7 @@ def test_quiet_without_a_terminal(tmp_path):
 
 
 @pytest.mark.parametrize("signum", [signal.SIGTERM, signal.SIGINT])
-@pytest.mark.parametrize("target", ["long.gif", "frames/"])
+@pytest.mark.parametrize("target", ["long.gif", "frames/", "long.mp4", "long.apng"])
 def test_a_render_killed_halfway_leaves_no_partial_file(tmp_path, signum, target):
     # Long enough to be caught in the act: 2 minutes of looking about.
     text = "repeat 60 { look 40 -20 in 1s; look -40 20 in 1s }"

@@ -27,7 +27,7 @@ from ..state import FaceState
 from ..tables import BROWS, MOUTHS, SKINS
 from ..theme import parse_size, resolve
 from .messages import message_class
-from .robot_link import WARN_EVERY, connect_robot
+from .robot_link import DISPLAY_TOPICS, WARN_EVERY, connect_robot
 
 STATE_EVERY = 0.1  # seconds between ~state messages while the face moves
 # After a command, the next frame comes this soon rather than at the next
@@ -43,7 +43,6 @@ SWITCH_INTERVAL = 0.001
 # left for this many of theirs rather than 10.
 FULL_COLLECTION_EVERY = 1000
 MASTER_CHECK = 1.0  # seconds between checks that the master still knows this node
-DISPLAY_TOPICS = {"baxter": "/robot/xdisplay", "sawyer": "/robot/head_display"}
 
 
 def selftest_script() -> str:

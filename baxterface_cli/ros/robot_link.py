@@ -17,6 +17,8 @@ HEAD_NOD_TOPIC = "/robot/head/command_head_nod"
 ENABLE_TOPIC = "/robot/set_super_enable"
 HEAD_STATE_TOPIC = "/robot/head/head_state"
 ROBOT_STATE_TOPIC = "/robot/state"
+# Where each robot's head screen takes its frames.
+DISPLAY_TOPICS = {"baxter": "/robot/xdisplay", "sawyer": "/robot/head_display"}
 WARN_EVERY = 5.0  # seconds between repeats of one warning about bad robot data
 
 # Each command topic's message type.

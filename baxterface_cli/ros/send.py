@@ -9,8 +9,7 @@ from ..effects import Cue
 from ..idle import Animation
 from ..playback import Player
 from ..renderer import Renderer
-from .node import DISPLAY_TOPICS
-from .robot_link import connect_robot
+from .robot_link import DISPLAY_TOPICS, connect_robot
 
 
 class NoSubscriber(Exception):
