@@ -18,6 +18,7 @@ md5sums are computed from the definitions as genmsg does; the robot and
 from __future__ import annotations
 
 import hashlib
+import math
 import os
 import re
 import struct
@@ -41,6 +42,7 @@ CHUNK_BYTES = 768 * 1024
 LZ4_LEVEL = 3
 HEADER_RECORD_BYTES = 4096  # the bag header record is padded to this, to be rewritten in place
 MAGIC = b"#ROSBAG V2.0\n"
+NS = 1_000_000_000  # bag times are whole nanoseconds
 
 # Record op codes (format 2.0).
 OP_MESSAGE, OP_BAG_HEADER, OP_INDEX, OP_CHUNK, OP_CHUNK_INFO, OP_CONNECTION = 2, 3, 4, 5, 6, 7
@@ -143,10 +145,9 @@ class MessageType(NamedTuple):
 
 def _message_type(name: str, text: str, nested: Tuple[Tuple[str, str, str], ...] = ()) -> MessageType:
     """`nested`: (as written, package/Name, text) of each nested type, all builtin-only."""
-    # Laid out as genpy's _full_text, which `rosbag record` stores.
-    full = (text + "\n" + "".join(f"{SEPARATOR}\nMSG: {full_name}\n{sub}\n" for _, full_name, sub in nested))[
-        :-1
-    ]
+    # Laid out as genpy's _full_text, which `rosbag record` stores: it drops the last newline.
+    full = text + "\n" + "".join(f"{SEPARATOR}\nMSG: {full_name}\n{sub}\n" for _, full_name, sub in nested)
+    full = full[:-1]
     md5s = {written: md5sum(sub) for written, _, sub in nested}
     return MessageType(name, full, md5sum(text, md5s), _declarations(text)[1])
 
@@ -176,7 +177,7 @@ def _u32(n: int) -> bytes:
 
 
 def _time(ns: int) -> bytes:
-    return struct.pack("<II", *divmod(ns, 1_000_000_000))
+    return struct.pack("<II", *divmod(ns, NS))
 
 
 def _fields(fields: Dict[str, bytes]) -> bytes:
@@ -230,17 +231,17 @@ class BagWriter(FrameSink):
         self, path: Path, export: Export, start: Optional[float] = None, chunk_bytes: int = CHUNK_BYTES
     ) -> None:
         self._lz4 = need("lz4.frame", "bag", "writing a ROS bag")
-        self._start_ns = round((start_time() if start is None else start) * 1e9)
+        start = start_time() if start is None else start
+        # Seconds apart: epoch nanoseconds in one float would be rounded to 256.
+        whole = math.floor(start)
+        self._start_ns = whole * NS + round((start - whole) * NS)
         self._chunk_bytes = chunk_bytes
         self._types = message_types()
         self._display = DISPLAY_TOPICS[export.robot]
+        # Stable: effects at one time keep the script's order (disable; enable ends enabled).
         self._commands = sorted(
-            (
-                (self._ns(cue.at), i, command)
-                for i, cue in enumerate(export.cues)
-                for command in ros_commands(cue.effect)
-            ),
-            key=lambda c: c[:2],
+            ((self._ns(cue.at), command) for cue in export.cues for command in ros_commands(cue.effect)),
+            key=lambda c: c[0],
         )
         self._next_command = 0
         self._connections: Dict[str, _Connection] = {}
@@ -257,7 +258,7 @@ class BagWriter(FrameSink):
             raise
 
     def _ns(self, t: float) -> int:
-        return self._start_ns + round(t * 1e9)
+        return self._start_ns + round(t * NS)
 
     def add(self, frame_bgr: np.ndarray, t: float) -> None:
         ns = self._ns(t)
@@ -278,12 +279,13 @@ class BagWriter(FrameSink):
             + _u32(len(pixels))
         )
         self._seq += 1
+        # Latched, as the face node publishes frames: a screen that subscribes late still gets the face.
         self._message(self._display, "sensor_msgs/Image", ns, [head, pixels], latching=True)
 
     def _commands_until(self, ns: Optional[int]) -> None:
         """Write the robot's commands due by `ns` (all that are left, for None)."""
         while self._next_command < len(self._commands):
-            at, _, command = self._commands[self._next_command]
+            at, command = self._commands[self._next_command]
             if ns is not None and at > ns:
                 return
             kind = COMMAND_TYPES[command.topic]
