@@ -374,7 +374,7 @@ _TERMINAL_NAMES = {
 def _describe_terminal(name: str) -> str:
     if name in _TERMINAL_NAMES:
         return _TERMINAL_NAMES[name]
-    for terminal in grammar().terminals:
+    for terminal in _parser().lark.terminals:  # the parser at hand: no second grammar to build
         if terminal.name == name and isinstance(terminal.pattern, PatternStr):
             return f"'{terminal.pattern.value.lower()}'"
     return name.lower().replace("_", " ")

@@ -283,28 +283,6 @@ def test_same_script_and_start_give_byte_identical_bags(tmp_path):
     assert a.read_bytes() == b.read_bytes()
 
 
-@pytest.mark.parametrize("signum", [signal.SIGTERM, signal.SIGINT])
-def test_a_render_killed_halfway_leaves_no_bag(tmp_path, signum):
-    # Long enough to be caught in the act: 2 minutes of looking about.
-    text = "repeat 60 { look 40 -20 in 1s; look -40 20 in 1s }"
-    proc = subprocess.Popen(
-        [sys.executable, "-m", "baxterface_cli", "render", "-e", text, "--out", f"{tmp_path}/long.bag", "-q"],
-        cwd=str(ROOT),
-        stdout=subprocess.DEVNULL,
-        stderr=subprocess.PIPE,
-    )
-    deadline = time.monotonic() + 60
-    while not any(p.name.startswith(".") for p in tmp_path.iterdir()):  # the render has begun writing
-        assert proc.poll() is None and time.monotonic() < deadline
-        time.sleep(0.05)
-    time.sleep(0.3)
-    proc.send_signal(signum)
-    _, err = proc.communicate(timeout=60)
-    assert proc.returncode != 0
-    assert b"Traceback" not in err
-    assert list(tmp_path.iterdir()) == [], os.listdir(tmp_path)
-
-
 def test_without_lz4_the_error_says_what_to_install(tmp_path):
     shadow = tmp_path / "shadow" / "lz4"
     shadow.mkdir(parents=True)

@@ -117,7 +117,7 @@ def test_quiet_without_a_terminal(tmp_path):
 
 
 @pytest.mark.parametrize("signum", [signal.SIGTERM, signal.SIGINT])
-@pytest.mark.parametrize("target", ["long.gif", "frames/", "long.mp4", "long.apng"])
+@pytest.mark.parametrize("target", ["long.gif", "frames/", "long.mp4", "long.apng", "long.bag"])
 def test_a_render_killed_halfway_leaves_no_partial_file(tmp_path, signum, target):
     # Long enough to be caught in the act: 2 minutes of looking about.
     text = "repeat 60 { look 40 -20 in 1s; look -40 20 in 1s }"
