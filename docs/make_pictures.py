@@ -1,4 +1,4 @@
-"""Draw the pictures in the docs into docs/images/, with the public library only.
+"""Draw the pictures in the docs into docs/images/, with the library and its exporters.
 
     python docs/make_pictures.py
 
@@ -7,13 +7,20 @@ Run it again after the theme or the renderer changes what a face looks like.
 
 from __future__ import annotations
 
+import tempfile
 from pathlib import Path
 from typing import List, Tuple
 
+import numpy as np
 from PIL import Image, ImageDraw, ImageFont
 
-from baxterface_cli import Face
+from baxterface_cli import Face, parse
+from baxterface_cli.idle import Animation
+from baxterface_cli.renderer import Renderer
+from baxterface_cli.rendering import render
 from baxterface_cli.tables import EMOTIONS
+from baxterface_cli.theme import Theme
+from baxterface_cli.timeline import compile_script
 
 OUT = Path(__file__).resolve().parent / "images"
 THUMB = (320, 188)  # 1024x600 over 3.2: the face's own proportions
@@ -97,12 +104,63 @@ def hello() -> Image.Image:
     return face.image()
 
 
+def frame_shown(path: Path, t: float) -> np.ndarray:
+    """The RGB frame a player shows at `t` in an animation Pillow reads (GIF, WebP)."""
+    with Image.open(path) as image:
+        start = 0.0
+        for index in range(image.n_frames):
+            image.seek(index)
+            start += image.info.get("duration", 0) / 1000
+            if start > t:
+                break
+        return np.asarray(image.convert("RGB"))
+
+
+def video_frame(path: Path, t: float) -> np.ndarray:
+    """The RGB frame of an MP4 shown at `t`, decoded by PyAV."""
+    import av
+
+    with av.open(str(path)) as video:
+        shown = None
+        for frame in video.decode(video=0):
+            if frame.time > t + 1e-6:
+                break
+            shown = frame.to_ndarray(format="rgb24")
+        return shown
+
+
+def crossfade() -> Image.Image:
+    """One frame halfway through a skin crossfade, as each format stores it, close up."""
+    script = parse("happy; angry", "<crossfade>")
+    animation = Animation(compile_script(script, seed=0))
+    renderer = Renderer(Theme.default().layers((1024, 600)))
+    t = 20 / 30  # a frame of the 0.6..0.75 s blend from skin 2 to skin 4
+    x, y = 420, 380  # a cheek, where the skins' gradients are; shown twice its size
+    box = (x, y, x + THUMB[0] // 2, y + THUMB[1] // 2)
+    with tempfile.TemporaryDirectory() as tmp:
+        panels = [("drawn", renderer.render(animation.sample(t))[..., ::-1])]
+        for ext, read, label in [
+            (".gif", frame_shown, "GIF: one palette"),
+            (".mp4", video_frame, "MP4: H.264"),
+            (".webp", frame_shown, "WebP: lossless"),
+        ]:
+            out = Path(tmp) / f"fade{ext}"
+            render(animation, renderer, str(out), fps=30)
+            panels.append((label, read(out, t)))
+    crops = []
+    for label, rgb in panels:
+        crop = Image.fromarray(np.ascontiguousarray(rgb)).crop(box)
+        crops.append((label, crop.resize(THUMB, Image.NEAREST)))
+    return sheet(crops, columns=4)
+
+
 def main() -> None:
     OUT.mkdir(exist_ok=True)
     save_sheet(emotions(), OUT / "emotions.png")
     save_sheet(looking(), OUT / "looking.png")
     hello().save(OUT / "hello.png", optimize=True)
-    for name in ("emotions.png", "looking.png", "hello.png"):
+    crossfade().save(OUT / "crossfade.png", optimize=True)
+    for name in ("emotions.png", "looking.png", "hello.png", "crossfade.png"):
         print(OUT / name)
 
 
