@@ -29,6 +29,7 @@ from . import artwork
 from .compositing import Sprite, split_columns, sprite_from_rgba
 from .partial import remove_stale, write_atomic
 from .resources import resource
+from .tables import VISEMES, viseme_mouth
 
 MANIFEST = "theme.json"
 MAX_SIDE = 8192
@@ -39,6 +40,11 @@ MAX_PIXELS = 3840 * 2160
 Size = Tuple[int, int]
 Key = Tuple[str, str]  # (kind, name)
 FULL_SCREEN_KINDS = ("background", "skin")
+# Layers a theme may leave out, each with the layer drawn in its place: the
+# speech mouths, which older themes lack, are drawn as the mouths tables.VISEMES names.
+OPTIONAL: Dict[Key, Key] = {
+    ("mouth", viseme_mouth(shape)): ("mouth", mouth) for shape, mouth in VISEMES.items()
+}
 
 
 class ThemeError(Exception):
@@ -121,6 +127,11 @@ class Theme:
         self.builtin = builtin
         self._fitted: OrderedDict[Size, ThemeLayers] = OrderedDict()
 
+    @property
+    def stand_ins(self) -> Dict[Key, Key]:
+        """The optional layers this theme leaves out, each with the layer drawn in its place."""
+        return {key: other for key, other in OPTIONAL.items() if key not in self.images}
+
     # -- loading
 
     @classmethod
@@ -163,7 +174,7 @@ class Theme:
             image = _read_image(path)
             _check_fit(path, kind, image.size, anchor, size)
             images[(kind, name)] = Placed(image, anchor)
-        missing = [key for key in artwork.layer_names() if key not in images]
+        missing = [key for key in artwork.layer_names() if key not in images and key not in OPTIONAL]
         if missing:
             kind, name = missing[0]
             more = f" and {len(missing) - 1} more" if len(missing) > 1 else ""
@@ -305,10 +316,14 @@ def _manifest_layers(manifest: dict, path: Path) -> List[dict]:
         key = (entry["kind"], entry.get("name", entry["kind"]))
         if key not in known:
             kinds = sorted({k for k, _ in known})
-            raise ThemeError(
-                f"{path}: layer {i + 1} is an unknown {key[0]!r} {key[1]!r} (kinds: {', '.join(kinds)})"
-            )
+            what = f"{_shown(key[0])} {_shown(key[1])}"
+            raise ThemeError(f"{path}: layer {i + 1} is an unknown {what} (kinds: {', '.join(kinds)})")
     return layers
+
+
+def _shown(text: str, most: int = 40) -> str:
+    """A name from a manifest, quoted, and cut short: the message stays one readable line."""
+    return repr(text if len(text) <= most else text[:most] + "...")
 
 
 def _layer_path(folder: Path, name: str, manifest_path: Path) -> Path:
@@ -443,6 +458,15 @@ def _prepare(placed: Dict[Key, Placed], size: Size, lid_travel: float) -> ThemeL
         lid_bands=[_alike_rows(lid) for lid in lids],
         lid_travel=int(math.floor(lid_travel * scale + 0.5)),
         skins={int(n): _sprite(p, size) for (k, n), p in placed.items() if k == "skin"},
-        mouths={n: _sprite(p, size) for (k, n), p in placed.items() if k == "mouth"},
+        mouths=_with_stand_ins({n: _sprite(p, size) for (k, n), p in placed.items() if k == "mouth"}),
         brows={n: _sprite(p, size) for (k, n), p in placed.items() if k == "brows"},
     )
+
+
+def _with_stand_ins(mouths: Dict[str, Sprite]) -> Dict[str, Sprite]:
+    """Every mouth the renderer may be asked for: a speech mouth the theme lacks is the
+    mouth tables.VISEMES gives for it (the same sprite, shared)."""
+    for (_, name), (_, other) in OPTIONAL.items():
+        if name not in mouths and other in mouths:
+            mouths[name] = mouths[other]
+    return mouths
