@@ -12,12 +12,12 @@ them to assets/default/ (the committed theme is exactly this at 1024x600).
 from __future__ import annotations
 
 import math
-from typing import Callable, Dict, Iterable, List, Sequence, Tuple
+from typing import Callable, Dict, Iterable, List, NamedTuple, Optional, Sequence, Tuple
 
 import numpy as np
-from PIL import Image, ImageDraw
+from PIL import Image, ImageChops, ImageDraw
 
-from .tables import BROWS, MOUTHS, SKINS
+from .tables import BROWS, MOUTHS, SKINS, VISEMES, viseme_mouth
 
 FACE_SIZE = (1024, 600)
 SUPERSAMPLE = 4
@@ -92,8 +92,12 @@ class Canvas:
         bounds: Sequence[float],
         color: Color,
         opacity: float = 1.0,
+        clip: Optional[Callable[[ImageDraw.ImageDraw, Callable[..., Point]], None]] = None,
     ) -> None:
-        """Draw with PIL at 4x inside `bounds` (face units), then filter down and paint."""
+        """Draw with PIL at 4x inside `bounds` (face units), then filter down and paint.
+
+        With `clip`, only where that shape is drawn too: a tongue or teeth kept inside a mouth.
+        """
         fx0, fy0, fx1, fy1 = bounds
         sx0, sy0 = self.to_screen(fx0, fy0)
         sx1, sy1 = self.to_screen(fx1, fy1)
@@ -109,6 +113,10 @@ class Canvas:
             return (px - x0) * k, (py - y0) * k
 
         draw(ImageDraw.Draw(mask), point)
+        if clip is not None:
+            inside = Image.new("L", mask.size, 0)
+            clip(ImageDraw.Draw(inside), point)
+            mask = ImageChops.multiply(mask, inside)
         small = mask.resize((x1 - x0, y1 - y0), Image.BOX)
         coverage = np.asarray(small, np.float32) / 255.0
         self.fill(color, coverage, (x0, y0, x1, y1), opacity)
@@ -325,9 +333,109 @@ def draw_mouth(size: Tuple[int, int], name: str) -> Image.Image:
             gap = [(CENTRE_X + k, y - 12 + abs(k) * 0.08), (CENTRE_X + k, y + 38)]
             c.shape(stroke(gap, 3, c), bounds_of(gap, 4), INK, 0.55)
         c.shape(stroke(shape + shape[:1], 9, c), bounds_of(shape, 9), INK)
+    elif name in SPEECH_MOUTHS:
+        draw_speech_mouth(c, SPEECH_MOUTHS[name])
     else:  # pragma: no cover - MOUTHS and this function are kept in step by a test
         raise ValueError(f"no drawing for mouth {name!r}")
     return c.image()
+
+
+# -- speech mouths ---------------------------------------------------------
+
+# The mouth layer of each speech shape ("speak-open": "open"), in the order of tables.VISEMES.
+SPEECH_MOUTHS: Dict[str, str] = {viseme_mouth(shape): shape for shape in VISEMES}
+SPEAK_Y = MOUTH_Y + 20  # the speech mouths' corners: the height of the bored mouth's line
+
+
+class Opening(NamedTuple):
+    """A mouth opening with its corners at (CENTRE_X +- half, y): the upper lip's edge rises
+    `up` above them in the middle, the lower lip's sinks `down` below. Roundness 1 makes the
+    lower edge a parabola, 0.5 half an ellipse, and between, a jaw-like U."""
+
+    y: float
+    half: float
+    up: float
+    down: float
+    roundness: float = 1.0
+
+    def upper(self, x: float) -> float:
+        return self.y - self.up * (1 - ((x - CENTRE_X) / self.half) ** 2)
+
+    def lower(self, x: float) -> float:
+        return self.y + self.down * max(0.0, 1 - ((x - CENTRE_X) / self.half) ** 2) ** self.roundness
+
+    def outline(self) -> List[Point]:
+        left, right = CENTRE_X - self.half, CENTRE_X + self.half
+        return curve(self.upper, left, right) + curve(self.lower, right, left)
+
+    def draw(
+        self, c: Canvas, teeth: float = 0.0, gaps: Sequence[float] = (), tongue: Sequence[float] = ()
+    ) -> None:
+        """The dark inside, a tongue (centre x, y and semi-axes), the upper teeth down to
+        `teeth` below the corners with lines between them at `gaps` from the centre line,
+        and the outline."""
+        shape = self.outline()
+        c.shape(polygon(shape), bounds_of(shape, 2), MOUTH_INSIDE)
+        if tongue:
+            tx, ty, rx, ry = tongue
+            box = (tx - rx - 2, ty - ry - 2, tx + rx + 2, ty + ry + 2)
+            c.shape(ellipse(tx, ty, rx, ry), box, TONGUE, clip=polygon(shape))
+        if teeth:
+            # The upper edge, then a gentle smile back, never below the lower edge.
+            left, right = CENTRE_X - self.half, CENTRE_X + self.half
+            band = curve(self.upper, left, right) + curve(
+                lambda x: min(self.y + teeth - 4 * ((x - CENTRE_X) / self.half) ** 2, self.lower(x)),
+                right,
+                left,
+            )
+            c.shape(polygon(band), bounds_of(band, 2), TEETH)
+            for k in gaps:
+                gap = [(CENTRE_X + k, self.y - self.up - 4), (CENTRE_X + k * 1.02, self.y + teeth + 4)]
+                c.shape(stroke(gap, 3, c), bounds_of(gap, 4), INK, 0.55, clip=polygon(band))
+        c.shape(stroke(shape + shape[:1], 9, c), bounds_of(shape, 9), INK)
+
+
+def draw_speech_mouth(c: Canvas, shape: str) -> None:
+    """A mouth shape of speech (a viseme), as tables.VISEMES names them.
+
+    They sit where the emotions' mouths do and are about as wide, so that a crossfade between
+    any two looks like one mouth moving. How open each is, the dark inside, goes closed < slight
+    < fv, lth < wide, round < open.
+    """
+    y = SPEAK_Y
+    if shape == "closed":  # p, b, m: lips pressed together, creased at the corners
+        line = curve(lambda x: y + 3 * (1 - ((x - CENTRE_X) / 88) ** 2), CENTRE_X - 88, CENTRE_X + 88)
+        c.shape(stroke(line, 12, c), bounds_of(line, 12), INK)
+        for side in (-1, 1):
+            crease = [
+                (CENTRE_X + side * (93 + 3 * math.cos(a)), y + 1 + 12 * math.sin(a))
+                for a in (math.pi * (i / 12 - 0.5) for i in range(13))
+            ]
+            c.shape(stroke(crease, 6, c), bounds_of(crease, 6), INK)
+        lip = curve(lambda x: y + 24 - 3 * (1 - ((x - CENTRE_X) / 34) ** 2), CENTRE_X - 34, CENTRE_X + 34)
+        c.shape(stroke(lip, 6, c), bounds_of(lip, 6), INK, 0.45)
+    elif shape == "slight":  # lips a little apart
+        Opening(y, 92, 7, 14).draw(c)
+    elif shape == "fv":  # f, v: the upper teeth on the lower lip
+        Opening(y - 4, 96, 12, 36, 0.7).draw(c, teeth=12, gaps=(-56, -18, 18, 56))
+    elif shape == "lth":  # l, th: the tongue's tip up at the upper teeth
+        Opening(y - 4, 102, 14, 44, 0.8).draw(
+            c, teeth=3, gaps=(-48, -16, 16, 48), tongue=(CENTRE_X, y + 30, 42, 30)
+        )
+    elif shape == "wide":  # e, i: lips spread, the teeth showing
+        Opening(y - 6, 124, 12, 46, 0.7).draw(c, teeth=12, gaps=(-72, -24, 24, 72))
+    elif shape == "round":  # o, u, w: a small rounded O
+        cx, cy, rx, ry = CENTRE_X, y + 6, 44, 50
+        c.shape(ellipse(cx, cy, rx, ry), (cx - rx - 2, cy - ry - 2, cx + rx + 2, cy + ry + 2), MOUTH_INSIDE)
+        tongue = (cx - 30, cy + 20, cx + 30, cy + ry + 2)
+        c.shape(ellipse(cx, cy + 42, 28, 16), tongue, TONGUE, clip=ellipse(cx, cy, rx, ry))
+        c.shape(ring(cx, cy, rx, ry, 9, c), (cx - rx - 9, cy - ry - 9, cx + rx + 9, cy + ry + 9), INK)
+    elif shape == "open":  # a as in "father": the jaw dropped
+        Opening(y - 14, 110, 10, 100, 0.6).draw(
+            c, teeth=8, gaps=(-64, -22, 22, 64), tongue=(CENTRE_X, y + 78, 60, 28)
+        )
+    else:  # pragma: no cover - VISEMES and this function are kept in step by a test
+        raise ValueError(f"no drawing for speech mouth {shape!r}")
 
 
 # Each brow as (inner end, middle, outer end) heights; inner is toward the
@@ -361,6 +469,7 @@ def layer_names() -> List[Tuple[str, str]]:
     names = [("background", "background"), ("eyes", "eyes"), ("eyelids", "eyelids")]
     names += [("skin", str(i)) for i in SKINS]
     names += [("mouth", m) for m in MOUTHS]
+    names += [("mouth", m) for m in SPEECH_MOUTHS]
     names += [("brows", b) for b in BROWS]
     return names
 

@@ -172,7 +172,7 @@ def write_manifest_text(folder, old, new):
             lambda d: break_manifest(d, lambda m: m["layers"][3].update(name=0)),
             "layer 4's 'name' must be a string",
         ),
-        (lambda d: break_manifest(d, lambda m: m["layers"].append(m["layers"][0])), "layer 22 repeats the"),
+        (lambda d: break_manifest(d, lambda m: m["layers"].append(m["layers"][0])), "layer 29 repeats the"),
         (
             lambda d: break_manifest(d, lambda m: m["layers"][0].update(file="/etc/hostname")),
             "inside the theme",
