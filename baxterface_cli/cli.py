@@ -124,7 +124,11 @@ def animation_for(script: Script, seed: Optional[int], idle: bool, crossfade: Op
     from .idle import Animation
     from .timeline import compile_script
 
-    return Animation(compile_script(script, seed, crossfade=crossfade), idle=idle, seed=seed)
+    try:
+        timeline = compile_script(script, seed, crossfade=crossfade)
+    except MissingTool as e:  # `say` without a speech engine
+        raise fail(f"baxterface: {e}") from None
+    return Animation(timeline, idle=idle, seed=seed)
 
 
 @app.command()
@@ -135,7 +139,8 @@ def render(
         "--out",
         "-o",
         metavar="PATH",
-        help="FILE.mp4, .webm, .gif, .webp, .apng, .bag, .png (one frame), or DIR/ for numbered PNGs.",
+        help="FILE.mp4, .webm, .gif, .webp, .apng, .bag, .png (one frame), .wav (the speech alone), "
+        "or DIR/ for numbered PNGs.",
     ),
     inline: Optional[str] = INLINE_OPT,
     fps: float = typer.Option(30.0, "--fps", min=1.0, max=120.0, help=FPS_HELP),
@@ -154,9 +159,10 @@ def render(
 ) -> None:
     """Render a script to a video, an animation, a ROS bag or image files.
 
-    The extension picks the format: .mp4 (H.264) and .webm (VP9) videos; .gif,
-    .webp and .apng looping animations; a .bag that `rosbag play` replays on
-    the robot; a .png gets one frame, the last or the one at --at; PATH ending
+    The extension picks the format: .mp4 (H.264) and .webm (VP9) videos, with
+    the speech; .gif, .webp and .apng looping animations; a .bag that `rosbag
+    play` replays on the robot; .wav the speech alone; a .png gets one frame,
+    the last or the one at --at; PATH ending
     in '/' (or an existing folder) gets frame_00000.png, ... Files appear only
     once complete.
     """
@@ -211,9 +217,8 @@ def render(
     except OSError as e:
         raise fail(f"baxterface render: cannot write {out}: {e.strerror or e}") from None
     if not quiet and sys.stderr.isatty():
-        typer.echo(
-            f"wrote {out} ({count} frame{'s' if count != 1 else ''}, {animation.duration:.2f} s)", err=True
-        )
+        frames = f"{count} frame{'s' if count != 1 else ''}, " if fmt.frames else ""
+        typer.echo(f"wrote {out} ({frames}{animation.duration:.2f} s)", err=True)
 
 
 @app.command()
@@ -257,6 +262,9 @@ def explain(
     words = EffectWords()
     for cue in timeline.cues:
         row(cue.at, cue.at, f"robot {cue.effect.visit(words, cue.at)}")
+    for said in timeline.speech:
+        for word in said.utterance.words:
+            row(said.at + word.at, said.at + word.at, f"word  {word.text}")
 
 
 @app.command()
@@ -282,7 +290,8 @@ def play(
     """Play a script in real time: in a window, or in this terminal.
 
     The status line shows what only the robot could: head pan, enable,
-    following. Ctrl-C stops.
+    following. A script that says something speaks through this machine's
+    sound device, in step with the picture. Ctrl-C stops.
     """
     from .playback import Player, TerminalScreen, WindowScreen, window_available
     from .renderer import Renderer
@@ -301,9 +310,25 @@ def play(
             "use 'baxterface render SCRIPT --out show.gif' to make a file instead"
         )
     renderer = Renderer(fitted_theme(theme, size))
-    animation = animation_for(script, seed, idle, crossfade)
+    try:
+        animation = animation_for(script, seed, idle, crossfade)
+    except MissingTool as e:
+        raise fail(f"baxterface play: {e}") from None
     screen = WindowScreen() if window else TerminalScreen()
-    player = Player(animation, renderer, screen, fps)
+    held: List[str] = []  # a terminal's face would cover the line; it is said when the face is gone
+
+    def warn(message: str) -> None:
+        if window:
+            typer.echo(f"baxterface play: {message}", err=True)
+        else:
+            held.append(f"baxterface play: {message}")
+
+    def open_sound():  # only once a script that speaks starts: the others never touch the device
+        from .audio import open_sound as open_device
+
+        return open_device(warn)
+
+    player = Player(animation, renderer, screen, fps, sound=open_sound)
     poll = _watcher(script_path, seed, idle, crossfade, player) if watch else None
     interrupted = False
     try:
@@ -312,6 +337,10 @@ def play(
         interrupted = True
     finally:
         screen.close()
+        if player.sound is not None:
+            player.sound.close()
+        for line in held:
+            typer.echo(line, err=True)
     shown = f"{player.frames_shown} frames ({screen.name})"
     length = player.animation.duration
     if interrupted:  # the shell's convention: 128 + SIGINT
@@ -347,10 +376,11 @@ def node(ctx: typer.Context) -> None:
 
     Takes ROS remappings and private parameters as arguments:
     display_chatter:=/other, _fps:=30, _size:=1920x1200, _theme:=DIR,
-    _idle:=false, _selftest:=true, _display_topic:=/robot/head_display.
-    Commands (old or new) arrive on display_chatter and take over at once;
-    scripts sent to ~queue wait for what is playing. Frames go to
-    /robot/xdisplay (bgr8), what the face is doing to ~state (JSON).
+    _idle:=false, _selftest:=true, _display_topic:=/robot/head_display,
+    _audio:=soundplay|local|none. Commands (old or new) arrive on
+    display_chatter and take over at once; scripts sent to ~queue wait for
+    what is playing. Frames go to /robot/xdisplay (bgr8), speech to
+    sound_play on /robotsound, what the face is doing to ~state (JSON).
     """
     _ros_ready("node")
     from .ros.node import run_node
@@ -445,16 +475,24 @@ def stream(
     theme: Optional[str] = THEME_OPT,
     idle: bool = IDLE_ON_OPT,
     crossfade: Optional[float] = CROSSFADE_OPT,
+    audio: str = typer.Option(
+        "soundplay",
+        "--audio",
+        help="Where speech goes: soundplay (sound_play on /robotsound, on this machine), "
+        "local (this machine's sound device) or none.",
+    ),
 ) -> None:
     """Stream a script to the robot's screen in real time, no face node needed.
 
     Frames are drawn here and published as bgr8, with the script's head, nod
-    and enable commands at their times.
+    and enable commands and its speech at their times.
     """
-    from .ros.robot_link import DISPLAY_TOPICS
+    from .ros.robot_link import AUDIO_CHOICES, DISPLAY_TOPICS, SPEAKERS
 
     if robot not in DISPLAY_TOPICS:
         raise fail(f"baxterface stream: --robot must be {' or '.join(DISPLAY_TOPICS)}, not {robot!r}", 2)
+    if audio not in SPEAKERS:
+        raise fail(f"baxterface stream: --audio must be {AUDIO_CHOICES}, not {audio!r}", 2)
     script = script_from(script_path, inline, "stream")
     renderer_layers = fitted_theme(theme, size)
     _ros_ready("stream")
@@ -462,7 +500,9 @@ def stream(
     from .ros.send import stream as stream_to
 
     animation = animation_for(script, seed, idle, crossfade)
-    played = stream_to(animation, Renderer(renderer_layers), robot, fps, ["baxterface_stream", *ctx.args])
+    played = stream_to(
+        animation, Renderer(renderer_layers), robot, fps, ["baxterface_stream", *ctx.args], audio=audio
+    )
     typer.echo(f"streamed {animation.duration:.2f} s of script in {played:.2f} s", err=True)
 
 
@@ -520,6 +560,15 @@ def check(
             typer.echo(json.dumps(to_json(script), indent=2, sort_keys=True))
     if failed:
         raise typer.Exit(1)
+
+
+@app.command()
+def voices() -> None:
+    """List the voices `say ... voice NAME` takes (espeak-ng's), one a line."""
+    from .voices import voice_names
+
+    for name in voice_names():
+        typer.echo(name)
 
 
 theme_app = typer.Typer(

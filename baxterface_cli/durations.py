@@ -1,7 +1,9 @@
 """How long each statement takes: the one place a default duration is resolved.
 
 The compiler, the checker (a script's length) and `explain` all ask here, so
-they can never disagree about how long `look left` lasts.
+they can never disagree about how long `look left` lasts. `say` is the one
+statement whose length only the speech engine knows; here it is estimated,
+for checking a script's length without an engine.
 """
 
 from __future__ import annotations
@@ -10,6 +12,7 @@ from typing import Any, Dict
 
 from . import nodes as n
 from .tables import EMOTIONS, TIMING
+from .voices import DEFAULT_RATE, estimated_seconds
 
 # The moves a script may time with `in T`, and how long they take when it does not.
 DEFAULT_MOVE_SECONDS: Dict[type, float] = {
@@ -37,4 +40,6 @@ def statement_seconds(statement: Any) -> float:
         return TIMING.blink_close + TIMING.blink_open
     if isinstance(statement, n.Nod):
         return TIMING.nod
+    if isinstance(statement, n.Say):
+        return estimated_seconds(statement.text, statement.rate or DEFAULT_RATE)
     return 0.0

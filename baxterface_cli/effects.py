@@ -11,9 +11,12 @@ from __future__ import annotations
 
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
-from typing import Any, NamedTuple, Optional
+from typing import TYPE_CHECKING, Any, NamedTuple, Optional
 
 from .tables import TIMING
+
+if TYPE_CHECKING:  # speech needs numpy; the effects themselves do not
+    from .speech import Utterance
 
 
 class Effect:
@@ -83,7 +86,21 @@ class Exit(Effect):
         return handler.exit(self, at)
 
 
-EFFECTS = (HeadPan, HeadNod, SetEnabled, Follow, Exit)
+@dataclass(frozen=True)
+class Speech(Effect):
+    """Say an utterance: its sound plays from the cue's time, for as long as it lasts."""
+
+    utterance: Utterance
+
+    @property
+    def duration(self) -> float:  # type: ignore[override]
+        return self.utterance.duration
+
+    def visit(self, handler: EffectHandler, at: float) -> Any:
+        return handler.speech(self, at)
+
+
+EFFECTS = (HeadPan, HeadNod, SetEnabled, Follow, Exit, Speech)
 
 
 class Cue(NamedTuple):
@@ -111,6 +128,9 @@ class EffectHandler(ABC):
     @abstractmethod
     def exit(self, effect: Exit, at: float) -> Any: ...
 
+    @abstractmethod
+    def speech(self, effect: Speech, at: float) -> Any: ...
+
 
 class RobotStatus(NamedTuple):
     """What the robot would be doing at a time, beyond the screen."""
@@ -120,9 +140,15 @@ class RobotStatus(NamedTuple):
     follow_dynamic: bool = False
     nodding_until: float = float("-inf")
     exited: bool = False
+    saying: str = ""  # the text being said, until `saying_until`
+    saying_until: float = float("-inf")
 
     def nodding(self, t: float) -> bool:
         return t < self.nodding_until
+
+    def speaking(self, t: float) -> Optional[str]:
+        """What is being said at t, or None."""
+        return self.saying if t < self.saying_until else None
 
 
 class StatusFold(EffectHandler):
@@ -146,6 +172,9 @@ class StatusFold(EffectHandler):
     def exit(self, effect: Exit, at: float) -> None:
         self.status = self.status._replace(exited=True)
 
+    def speech(self, effect: Speech, at: float) -> None:
+        self.status = self.status._replace(saying=effect.utterance.text, saying_until=at + effect.duration)
+
 
 class EffectWords(EffectHandler):
     """Each effect in words, for `explain`."""
@@ -164,3 +193,12 @@ class EffectWords(EffectHandler):
 
     def exit(self, effect: Exit, at: float) -> str:
         return "exit: the face node shuts down"
+
+    def speech(self, effect: Speech, at: float) -> str:
+        u = effect.utterance
+        return f"say {quoted(u.text)} ({u.duration:.2f} s, voice {u.voice}, {u.rate} words a minute)"
+
+
+def quoted(text: str) -> str:
+    """Text as a script writes it: in double quotes, with \\ and \" escaped."""
+    return '"' + text.replace("\\", "\\\\").replace('"', '\\"') + '"'

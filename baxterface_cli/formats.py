@@ -57,6 +57,7 @@ class Format(NamedTuple):
     # Frames 1/fps apart that last exactly the script; otherwise one more, the
     # last at the very end (GIFs and folders, as they always were).
     exact_length: bool = True
+    frames: bool = True  # False: sound only, no frame is drawn
 
 
 class FormatError(ValueError):
@@ -94,6 +95,12 @@ def _bag(path: Path, export: Export) -> FrameSink:
     return BagWriter(path, export)
 
 
+def _wav(path: Path, export: Export) -> FrameSink:
+    from .soundtrack import WavWriter
+
+    return WavWriter(path, export)
+
+
 def _still(path: Path, export: Export) -> FrameSink:
     from .output import PngStill
 
@@ -108,8 +115,8 @@ FORMATS: Dict[str, Format] = {
     ".webp": Format("a looping animated WebP, lossless", _video("webp")),
     ".apng": Format("a looping animated PNG, lossless", _apng),
     ".bag": Format("a ROS 1 bag that `rosbag play` replays on the robot", _bag),
+    ".wav": Format("the speech alone, as a WAV sound file", _wav, frames=False),
 }
-LATER = {".wav": "writing speech audio comes with `say`; no script makes sound yet"}
 FOLDER = Format("numbered PNG frames in a folder", lambda path, export: _folder(path), exact_length=False)
 
 
@@ -129,8 +136,6 @@ def format_for(out: str) -> Format:
     suffix = Path(out).suffix.lower()
     if suffix in FORMATS:
         return FORMATS[suffix]
-    if suffix in LATER:
-        raise FormatError(f"{out!r}: {LATER[suffix]}")
     raise FormatError(f"--out must end in {_choices()}, not {out!r}")
 
 

@@ -14,7 +14,8 @@ import threading
 from collections import deque
 from typing import Callable, Deque, List, NamedTuple, Optional, Tuple
 
-from .diagnostics import ScriptError
+from .diagnostics import Diagnostic, ScriptError
+from .extras import MissingTool
 from .live import LiveFace, QueueFull
 from .parser import parse
 from .timeline import Timeline
@@ -142,7 +143,11 @@ class Intake:
         except ScriptError as e:
             return Prepared(queued, None, e, generation)
         start = self._queue_end() if queued else self.live.base_state(self.clock())
-        return Prepared(queued, self.live.prepare(script, start), None, generation)
+        try:
+            timeline = self.live.prepare(script, start)
+        except MissingTool as e:  # `say` on a machine without a speech engine: refused, not fatal
+            return Prepared(queued, None, ScriptError([Diagnostic(0, 0, str(e))], self.filename), generation)
+        return Prepared(queued, timeline, None, generation)
 
     def _queue_end(self):
         try:

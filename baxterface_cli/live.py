@@ -136,7 +136,7 @@ class LiveFace:
 
     @property
     def robot(self) -> RobotStatus:
-        """The robot's status as the effects handed out so far left it."""
+        """The robot's status as the effects handed out so far left it (times on the caller's clock)."""
         return self._robot.status
 
     @property
@@ -148,6 +148,6 @@ class LiveFace:
         t = now - self.started
         ready = [c for c in self.pending if c.at <= t]
         self.pending = [c for c in self.pending if c.at > t]
-        for cue in ready:
-            cue.effect.visit(self._robot, cue.at)
+        for cue in ready:  # on the caller's clock: the status outlives the script that set it
+            cue.effect.visit(self._robot, self.started + cue.at)
         return ready

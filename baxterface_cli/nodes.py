@@ -143,6 +143,16 @@ class Follow:
 
 
 @dataclass(frozen=True)
+class Say:
+    """Speak `text`; None leaves the voice or rate (words a minute) to the default."""
+
+    text: str
+    voice: Optional[str] = None
+    rate: Optional[int] = None
+    pos: Pos = _pos()
+
+
+@dataclass(frozen=True)
 class Repeat:
     count: int
     body: Tuple[Any, ...]

@@ -30,7 +30,9 @@ from .geometry import clamp_to_ellipse, inside_ellipse
 from .resources import resource
 from .tables import BROWS, DIRECTIONS, HEAD_PAN_LIMIT, LIMITS, MOUTHS, SKINS, UNITS
 from .vocabulary import BARE_WORDS, LEGACY_USAGE, LEGACY_WORDS
+from .voices import RATES, known_voice, voice_names
 
+_ESCAPE = re.compile(r"\\(.)", re.S)
 _NUMBER = re.compile(r"([-+]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+))(.*)", re.S)
 _LEGACY_NUMBER = re.compile(r"_([-+]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+))")
 
@@ -168,7 +170,9 @@ def decode(data: bytes, name: str) -> str:
 
 # -- unclosed blocks ------------------------------------------------------
 
-_BRACES = re.compile(r"[{}]|#[^\n]*")
+# Strings first, so that a '{' or '#' inside one is text, not a block or a comment.
+_STRING = re.compile(r'"(?:\\.|[^"\\\n])*"?')
+_BRACES = re.compile(_STRING.pattern + r"|[{}]|#[^\n]*")
 
 
 def _close_braces(text: str) -> Tuple[List[Diagnostic], str, Optional[List[int]]]:
@@ -202,7 +206,7 @@ def _add_closings(text: str, unclosed: Set[int]) -> Tuple[str, List[int]]:
     stack: List[Tuple[int, int]] = []  # each open '{': its offset, its line's indentation
     offset = 0
     for line in text.split("\n"):
-        code = line.split("#", 1)[0]
+        code = _STRING.sub(lambda m: " " * len(m.group()), line).split("#", 1)[0]
         indent = len(code) - len(code.lstrip())
         if code.strip():
             # Only an unclosed block on top can end here: any '}' later
@@ -366,6 +370,7 @@ def _matching_brace(text: str, opening: int) -> int:
 _TERMINAL_NAMES = {
     "QUANTITY": "a number",
     "NAME": "a name",
+    "STRING": "a string in double quotes",
     "_NL": "a new line",
     "$END": "end of script",
 }
@@ -400,9 +405,15 @@ def _syntax_diagnostic(e: UnexpectedInput, text: str) -> Diagnostic:
         shown = repr(char) if not char.isprintable() or char in "'\"" else f"'{char}'"
         expected, keywords = _expected(e.allowed or ())
         spaced = _spaced_unit(text, e.pos_in_stream, char)
-        message = (
-            f"unexpected {shown} {spaced}" if spaced else f"unexpected character {shown}; expected {expected}"
-        )
+        string = _STRING.match(text, e.pos_in_stream) if char == '"' else None
+        if string is not None and not _closed_string(string.group()):
+            message = "unterminated string: it needs a closing '\"' on the same line"
+        elif string is not None:
+            message = f"unexpected string; expected {expected}"
+        elif spaced:
+            message = f"unexpected {shown} {spaced}"
+        else:
+            message = f"unexpected character {shown}; expected {expected}"
     elif isinstance(e, UnexpectedToken):
         token = e.token
         expected, keywords = _expected(e.expected)
@@ -439,6 +450,11 @@ def _spaced_unit(text: str, at: int, word: str) -> str:
         return ""
     number = m.group(1)
     return f"in '{number} {word}': write the unit straight after the number, as in '{number}{word}'"
+
+
+def _closed_string(string: str) -> bool:
+    """Does a `_STRING` match end with its closing quote? (It takes escaped quotes whole.)"""
+    return len(string) >= 2 and string.endswith('"')
 
 
 def _end_of(text: str) -> Tuple[int, int]:
@@ -661,6 +677,52 @@ class _Builder(Transformer):
     def follow_target(self, children: List[Token]) -> Optional[str]:
         kind = children[0].type
         return {"HUMAN": "human", "OFF": None, "LEFT": "left arm", "RIGHT": "right arm"}[kind]
+
+    def say(self, children: List[Any]) -> n.Say:
+        at, string, *options = children
+        text = self._string(string)
+        if text is not None and not text.strip():
+            self._error(string, "nothing to say: the text is empty")
+        elif text is not None and len(text) > LIMITS.max_say:
+            self._error(
+                string, f"too much to say at once ({len(text)} characters; the limit is {LIMITS.max_say})"
+            )
+        voice = rate = None
+        for kind, value in options:
+            if kind == "voice":
+                voice = value if voice is None else self._twice(at, "voice")
+            else:
+                rate = value if rate is None else self._twice(at, "rate")
+        return n.Say(text or "", voice, rate, pos=self._pos(at))
+
+    def _twice(self, at: Token, what: str) -> None:
+        self._error(at, f"'say' takes one '{what}'")
+
+    def _string(self, token: Token) -> Optional[str]:
+        """A string token's text, escapes undone; None after an error."""
+        body = str(token)[1:-1]
+        for m in _ESCAPE.finditer(body):
+            if m.group(1) not in '"\\':
+                column = token.column + 1 + m.start()
+                self.diagnostics.append(
+                    Diagnostic(token.line, column, f"unknown escape '\\{m.group(1)}'; write \\\" or \\\\")
+                )
+                return None
+        return _ESCAPE.sub(r"\1", body)
+
+    def voice(self, children: List[Token]) -> Tuple[str, Optional[str]]:
+        _, token = children
+        name = str(token).lower()
+        if not known_voice(name):
+            hint = self.hints(name, voice_names()) or "; 'baxterface voices' lists them"
+            self._error(token, f"unknown voice '{token}'{hint}")
+            return "voice", None
+        return "voice", name
+
+    def rate(self, children: List[Token]) -> Tuple[str, Optional[int]]:
+        _, token = children
+        low, high = RATES
+        return "rate", self._whole(token, "rate", "a speech rate", low, high)
 
     def repeat(self, children: List[Any]) -> n.Repeat:
         at, count_token, body = children

@@ -9,6 +9,7 @@ from .formats import Export, Format, format_for
 from .idle import Animation
 from .partial import remove_stale
 from .renderer import Renderer
+from .soundtrack import soundtrack
 
 Progress = Callable[[int, int], None]  # (frames done, frames in all)
 
@@ -28,6 +29,8 @@ def palette_times(animation: Animation) -> List[float]:
 def frame_times(fmt: Format, animation: Animation, fps: float, at: Optional[float]) -> List[float]:
     """When each frame is sampled: one still, or the whole script at `fps`."""
     duration = animation.duration
+    if not fmt.frames:
+        return []
     if fmt.one_frame:
         return [duration if at is None else min(at, duration)]  # idle runs on past the end
     if not fmt.exact_length:
@@ -61,6 +64,7 @@ def render(
         robot=robot,
         frame_at=lambda t: renderer.render(animation.sample(t)),
         palette_times=palette_times(animation),
+        audio=soundtrack(animation.timeline.speech, animation.duration),
     )
     times = frame_times(fmt, animation, fps, at)
     sink = fmt.open(path, export)

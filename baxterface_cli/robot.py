@@ -11,7 +11,8 @@
   head by the one dynamic-look rule.
 
 What to send goes out through `send(effect)` (HeadPan, HeadNod, SetEnabled),
-problems through `warn(text)`. The clock is passed to every call, so all of
+speech through `speak(effect)` (to a sound device or sound_play), problems
+through `warn(text)`. The clock is passed to every call, so all of
 it is tested without a robot; the ROS node and `stream` are thin adapters.
 """
 
@@ -21,7 +22,7 @@ import math
 from collections import deque
 from typing import Callable, Deque, Dict, Optional, Sequence, Tuple
 
-from .effects import Effect, EffectHandler, Exit, Follow, HeadNod, HeadPan, SetEnabled
+from .effects import Effect, EffectHandler, Exit, Follow, HeadNod, HeadPan, SetEnabled, Speech
 from .following import ArmFollower, HumanFollower
 from .geometry import clamp_to_ellipse, dynamic_look, to_pixels, to_radians
 from .state import FaceState
@@ -125,8 +126,10 @@ class Robot(EffectHandler):
         send: Callable[[Effect], None],
         warn: Callable[[str], None] = lambda text: None,
         info: Callable[[str], None] = lambda text: None,
+        speak: Callable[[Speech], None] = lambda effect: None,
     ) -> None:
         self.send = send
+        self.speak = speak
         self.warn = warn
         self.info = info
         self.head: Optional[float] = None  # measured pan, radians; None until heard
@@ -188,6 +191,9 @@ class Robot(EffectHandler):
 
     def exit(self, effect: Exit, now: float) -> None:
         pass  # the adapter ends itself once the last frame is out
+
+    def speech(self, effect: Speech, now: float) -> None:
+        self.speak(effect)  # a disabled robot still talks: speech moves no motor
 
     # -- every frame
 

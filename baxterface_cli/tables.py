@@ -21,6 +21,27 @@ MOUTHS: Tuple[str, ...] = (
     "smile-open",
 )
 BROWS: Tuple[str, ...] = ("normal", "raised", "skeptical", "angry", "worried")
+
+# Mouth shapes for speech (visemes). While the face speaks, its mouth is one of
+# these, or "rest": the emotion's own mouth. Each is drawn as the mouth layer
+# "speak-<shape>"; a theme without that layer shows the existing mouth given here.
+VISEMES: Dict[str, str] = {
+    "closed": "bored",  # p, b, m: lips pressed together
+    "slight": "smile",  # most consonants, unstressed vowels: lips a little apart
+    "open": "smile-open",  # a as in "father", "cat"
+    "wide": "teeth",  # e and i: lips spread, teeth showing
+    "round": "smile-open",  # o, u, w: lips rounded
+    "fv": "teeth",  # f, v: upper teeth on the lower lip
+    "lth": "smile-open",  # l and th: tongue at the teeth
+}
+REST = "rest"
+
+
+def viseme_mouth(shape: str) -> str:
+    """The mouth layer that draws a speech shape."""
+    return f"speak-{shape}"
+
+
 SKINS = range(6)  # 0..4 pale yellow to red, 5 sleepy with a "Zzz"
 
 
@@ -102,6 +123,7 @@ UNITS: Dict[str, Dict[str, float]] = {
     "pixels": {"": 1.0, "px": 1.0},
     "openness": {"": 1.0, "%": 0.01},
     "count": {"": 1.0},
+    "rate": {"": 1.0, "wpm": 1.0},  # words a minute
     "index": {"": 1.0},
 }
 
@@ -121,6 +143,7 @@ class Limits(NamedTuple):
     max_repeat: int = 10_000  # one repeat's count
     max_seconds: float = 3600.0  # a script's total length
     max_steps: int = 100_000  # statements once repeats and definitions unroll
+    max_say: int = 1000  # characters one `say` speaks: about a minute at the default rate
     max_shown: int = 50  # diagnostics kept and printed; the rest are only counted
 
 

@@ -2,8 +2,9 @@
 
 `compile_script` walks the AST with a clock and turns each statement into
 changes on tracks: eyes (x, y), lids, head pan, the parts (skin, mouth,
-brows, which swap with a short crossfade), the emotion's name, and cues of
-robot effects (see `effects`). Changes are applied in time order, each
+brows, which swap with a short crossfade), the emotion's name, speech (its
+mouth shapes over the parts' mouth), and cues of robot effects (see
+`effects`). Changes are applied in time order, each
 starting from wherever its track is at that moment, so `together` blocks and
 interrupted moves compose. `Timeline.sample(t)` is then a pure lookup.
 """
@@ -13,7 +14,7 @@ from __future__ import annotations
 import bisect
 import random
 from dataclasses import dataclass, field
-from typing import Any, Callable, Dict, List, NamedTuple, Optional, Sequence, Tuple
+from typing import TYPE_CHECKING, Any, Callable, Dict, List, NamedTuple, Optional, Sequence, Tuple
 
 from . import effects as fx
 from . import nodes as n
@@ -22,7 +23,14 @@ from .easing import EASINGS
 from .effects import Cue, RobotStatus, StatusFold
 from .geometry import clamp_pan, clamp_to_ellipse, dynamic_look, to_radians
 from .state import FaceState, Parts
-from .tables import EMOTIONS, HEAD_SPEED_RATIO, HEAD_TOP_SPEED, TIMING
+from .tables import EMOTIONS, HEAD_SPEED_RATIO, HEAD_TOP_SPEED, REST, TIMING, viseme_mouth
+
+if TYPE_CHECKING:
+    from .speech import Utterance
+    from .visemes import MouthKey
+
+# Speaks text in a voice (None: the default) at a rate (None: the default).
+Speaker = Callable[[str, Optional[str], Optional[int]], "Utterance"]
 
 CROSSFADE = 0.15  # seconds a script's part swap blends over; 0 cuts
 
@@ -96,6 +104,18 @@ class PartsChange(NamedTuple):
     fade: float  # seconds
 
 
+class Said(NamedTuple):
+    """An utterance the face says from `at`, with the mouth shapes that go with it."""
+
+    at: float
+    utterance: Utterance
+    mouth: Tuple[MouthKey, ...]
+
+    @property
+    def end(self) -> float:
+        return self.at + self.utterance.duration
+
+
 class Span(NamedTuple):
     """What one statement does, for `explain`."""
 
@@ -118,15 +138,30 @@ class Timeline:
     spans: List[Span]
     duration: float
     initial: FaceState
+    speech: List[Said] = field(default_factory=list)  # in time order
     _part_times: List[float] = field(default_factory=list, repr=False)
     _emotion_times: List[float] = field(default_factory=list, repr=False)
+    _speech_times: List[float] = field(default_factory=list, repr=False)
 
     def __post_init__(self) -> None:
         self._part_times = [c.at for c in self.parts]
         self._emotion_times = [at for at, _ in self.emotions]
+        self._speech_times = [said.at for said in self.speech]
 
     def sample(self, t: float) -> FaceState:
         """The face at time t (seconds from the start): pure, the same every call."""
+        state = self._sample_parts(t)
+        said = self._said(t)
+        return state if said is None else _speaking(state, said, t)
+
+    def _said(self, t: float) -> Optional[Said]:
+        """The utterance being said at t: the latest begun, if it is still going."""
+        i = bisect.bisect_right(self._speech_times, t) - 1
+        if i >= 0 and t < self.speech[i].end:
+            return self.speech[i]
+        return None
+
+    def _sample_parts(self, t: float) -> FaceState:
         x, y = self.eyes.value(t)
         i = bisect.bisect_right(self._emotion_times, t) - 1
         state = self.initial.replace(
@@ -175,8 +210,11 @@ class _Event(NamedTuple):
 class _Compiler:
     """Walks the AST with a clock, queueing track changes to apply in time order."""
 
-    def __init__(self, script: n.Script, rng: random.Random, start: FaceState, crossfade: float) -> None:
+    def __init__(
+        self, script: n.Script, rng: random.Random, start: FaceState, crossfade: float, speak: Speaker
+    ) -> None:
         self.definitions = script.definitions
+        self.speak = speak
         self.rng = rng
         self.crossfade = crossfade
         self.start = start
@@ -187,6 +225,7 @@ class _Compiler:
         self.emotions: List[Tuple[float, str]] = []
         self.cues: List[Cue] = []
         self.spans: List[Span] = []
+        self.speech: List[Said] = []
         self.events: List[_Event] = []
         self.exit_at: Optional[float] = None
 
@@ -323,12 +362,44 @@ class _Compiler:
             self.later(t, lambda at: self.eyes.move(at, TIMING.look, (0.0, 0.0)))
         return t
 
+    def do_say(self, s: n.Say, t: float) -> float:
+        from .visemes import mouth_track
+
+        utterance = self.speak(s.text, s.voice, s.rate)
+        said = Said(t, utterance, mouth_track(utterance))
+        self.later(t, lambda at: self.speech.append(said))
+        self.cue(t, fx.Speech(utterance))
+        return t + utterance.duration
+
     def do_exit(self, s: n.Exit, t: float) -> float:
         # The sleep face, fully faded in, is the last thing shown.
         end = self.do_emotion(n.Emotion("sleep", pos=s.pos), t) + self.crossfade
         self.cue(end, fx.Exit())
         self.exit_at = end
         return end
+
+
+def _speaking(state: FaceState, said: Said, t: float) -> FaceState:
+    """The face with the speech shape at t for its mouth; the rest of the face goes on.
+
+    A tween between two shapes uses the crossfade; during an emotion's own
+    crossfade, both sides of it show the shape, and the emotion's fade wins.
+    """
+    from .visemes import shape_at
+
+    shape, tween_from, progress = shape_at(said.mouth, t - said.at)
+
+    def mouth(parts: Parts, name: str) -> Parts:
+        return parts._replace(mouth=parts.mouth if name == REST else viseme_mouth(name))
+
+    now = mouth(state.parts, shape)
+    if state.fade_from is not None:
+        return state.with_parts(now).replace(fade_from=mouth(state.fade_from, shape))
+    if tween_from is not None and progress < 1.0:
+        before = mouth(state.parts, tween_from)
+        if before != now:
+            return state.with_parts(now).replace(fade_from=before, fade=progress)
+    return state.with_parts(now)
 
 
 def head_speed(start: float, target: float, duration: float) -> float:
@@ -344,15 +415,18 @@ def compile_script(
     seed: Optional[int] = 0,
     start: Optional[FaceState] = None,
     crossfade: Optional[float] = None,
+    speak: Optional[Speaker] = None,
 ) -> Timeline:
     """Compile a parsed script; the same script and seed give the same timeline.
 
     Part swaps blend over `crossfade` seconds: by default CROSSFADE for a
-    script and none (a cut, as the old node did) for legacy commands.
+    script and none (a cut, as the old node did) for legacy commands. `say`
+    speaks through `speak`, by default the espeak-ng engine, which is only
+    loaded when a script says something (`extras.MissingTool` without it).
     """
     if crossfade is None:
         crossfade = 0.0 if script.legacy else CROSSFADE
-    compiler = _Compiler(script, random.Random(seed), start or FaceState(), crossfade)
+    compiler = _Compiler(script, random.Random(seed), start or FaceState(), crossfade, speak or _engine_say)
     end = compiler.sequence(script.body, 0.0)
     for event in sorted(compiler.events, key=lambda e: (e.at, e.order)):
         event.apply(event.at)
@@ -373,7 +447,15 @@ def compile_script(
         compiler.spans,
         duration,
         start or FaceState(),
+        compiler.speech,
     )
+
+
+def _engine_say(text: str, voice: Optional[str], rate: Optional[int]) -> Utterance:
+    from .speech import engine
+    from .voices import DEFAULT_RATE, DEFAULT_VOICE
+
+    return engine().say(text, voice or DEFAULT_VOICE, rate or DEFAULT_RATE)
 
 
 def describe(s: Any) -> str:
@@ -398,6 +480,12 @@ def describe(s: Any) -> str:
         return f"skin {s.index}"
     if isinstance(s, (n.Mouth, n.Brows)):
         return f"{type(s).__name__.lower()} {s.name}"
+    if isinstance(s, n.Say):
+        return (
+            f"say {fx.quoted(s.text)}"
+            + (f" voice {s.voice}" if s.voice else "")
+            + (f" rate {s.rate}" if s.rate else "")
+        )
     if isinstance(s, n.Follow):
         if s.target is None:
             return "follow off"
@@ -424,4 +512,5 @@ def state_record(t: float, state: FaceState, status: RobotStatus) -> Dict[str, A
         "follow_dynamic": status.follow_dynamic,
         "nodding": status.nodding(t),
         "exited": status.exited,
+        "saying": status.speaking(t),
     }

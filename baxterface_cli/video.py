@@ -26,6 +26,7 @@ import numpy as np
 from . import partial
 from .extras import MissingTool
 from .formats import Export, FormatError, FrameSink
+from .soundtrack import at_rate
 
 
 class Codec(NamedTuple):
@@ -36,6 +37,7 @@ class Codec(NamedTuple):
     ffmpeg: List[str]  # the same, and the muxer's, as ffmpeg arguments
     pix_fmt: str = "yuv420p"  # what every player and browser plays
     muxer: Dict[str, str] = {}
+    audio_rate: int = 0  # the rate the sound encoder takes; 0: the sound's own
 
 
 CODECS = {
@@ -48,6 +50,7 @@ CODECS = {
         "libopus",
         {"deadline": "realtime", "cpu-used": "8", "row-mt": "1", "crf": "32", "b": "0"},
         ["-deadline", "realtime", "-cpu-used", "8", "-row-mt", "1", "-crf", "32", "-b:v", "0"],
+        audio_rate=48000,  # Opus refuses espeak-ng's 22050
     ),
     # Lossless, from full-colour pixels: no palette, no chroma subsampling.
     "webp": Codec(
@@ -106,7 +109,8 @@ class PyAvVideo(FrameSink):
             self.audio = None
             if export.audio is not None and codec.audio:
                 samples, rate = export.audio
-                self.audio = self.container.add_stream(codec.audio, rate=rate)
+                self.sound = (at_rate(samples, rate, codec.audio_rate), codec.audio_rate or rate)
+                self.audio = self.container.add_stream(codec.audio, rate=self.sound[1])
         except BaseException:
             self.abort()
             raise
@@ -124,7 +128,7 @@ class PyAvVideo(FrameSink):
     def _encode_audio(self) -> None:
         import av
 
-        samples, rate = self.export.audio  # type: ignore[misc]
+        samples, rate = self.sound
         stream = self.audio
         size = stream.codec_context.frame_size or 1024
         mono = np.asarray(samples, np.int16)

@@ -59,4 +59,5 @@ KEYWORDS: Tuple[str, ...] = (
     "repeat",
     "together",
     "define",
+    "say",
 )

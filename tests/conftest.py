@@ -3,8 +3,11 @@
 from __future__ import annotations
 
 import os
+import signal
+import socket
 import subprocess
 import sys
+import time
 from pathlib import Path
 from typing import Optional, Union
 
@@ -41,3 +44,50 @@ def baxterface(
 @pytest.fixture
 def cli():
     return baxterface
+
+
+def free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+@pytest.fixture(scope="module")
+def roscore(tmp_path_factory):
+    """A roscore of the module's own on a free loopback port, and the environment that reaches it.
+
+    The ROS parts of a module using it run in subprocesses, so it can share a
+    session with test_ros.py, which makes the test process a node on its own master.
+    """
+    port = free_port()
+    env = dict(
+        os.environ,
+        ROS_MASTER_URI=f"http://127.0.0.1:{port}",
+        ROS_IP="127.0.0.1",
+        ROS_HOME=str(tmp_path_factory.mktemp("ros_home")),
+    )
+    env.pop("ROS_HOSTNAME", None)
+    core = subprocess.Popen(
+        ["roscore", "-p", str(port)], env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL
+    )
+    deadline = time.monotonic() + 30
+    while subprocess.run(["rosnode", "list"], env=env, capture_output=True, timeout=30).returncode != 0:
+        assert core.poll() is None and time.monotonic() < deadline, "roscore did not start"
+        time.sleep(0.2)
+    yield env
+    core.send_signal(signal.SIGINT)
+    core.wait(timeout=30)
+
+
+@pytest.fixture(scope="session")
+def engine():
+    """The real espeak-ng engine: skipped where it is missing, except in CI, which installs it."""
+    from baxterface_cli.extras import MissingTool
+    from baxterface_cli.speech import engine as speech_engine
+
+    try:
+        return speech_engine()
+    except MissingTool as e:
+        if os.environ.get("CI") == "true":
+            pytest.fail(f"CI needs espeak-ng: {e}")
+        pytest.skip(f"espeak-ng is not installed: {e}")

@@ -152,8 +152,8 @@ def test_without_pyav_or_ffmpeg_one_line_says_how_to_get_one_and_nothing_is_writ
 @pytest.mark.parametrize(
     "out, code, message",
     [
-        ("x.wav", 2, "writing speech audio comes with `say`"),
-        ("x.avi", 2, "--out must end in .png, .gif, .mp4, .webm, .webp, .apng or .bag"),
+        ("x.avi", 2, "--out must end in .png, .gif, .mp4, .webm, .webp, .apng, .bag or .wav"),
+        ("x.mov", 2, "or name a folder (end it with '/')"),
     ],
 )
 def test_formats_it_cannot_write_are_refused_clearly(tmp_path, out, code, message):

@@ -28,6 +28,7 @@ def test_wheel_installs_into_a_fresh_venv_and_runs_from_elsewhere(tmp_path):
     assert "baxterface_cli/assets/default/theme.json" in names
     assert "baxterface_cli/assets/default/skin-5.png" in names
     assert "baxterface_cli/buttons.json" in names
+    assert "baxterface_cli/data/voices.txt" in names  # what `check` knows voices by
 
     env_dir = tmp_path / "venv"
     venv.create(env_dir, with_pip=True)

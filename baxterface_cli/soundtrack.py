@@ -1,0 +1,69 @@
+"""A script's sound: its utterances mixed at their times, and WAV files of it.
+
+Video writers take the track through `Export.audio`; `render --out x.wav`
+writes it alone. Utterances are mixed, not queued, so two `say`s in a
+`together` block speak over each other, as written.
+"""
+
+from __future__ import annotations
+
+import os
+import wave
+from pathlib import Path
+from typing import Optional, Sequence, Tuple
+
+import numpy as np
+
+from . import partial
+from .formats import Export, FrameSink
+
+Audio = Tuple[np.ndarray, int]  # mono int16 samples, samples a second
+SILENT_RATE = 22050  # a script that says nothing: espeak-ng's own rate
+
+
+def soundtrack(speech: Sequence, duration: float) -> Optional[Audio]:
+    """The utterances of `speech` (timeline `Said`s) mixed over `duration` seconds; None if silent."""
+    if not speech:
+        return None
+    rate = speech[0].utterance.sample_rate
+    mix = np.zeros(max(1, round(duration * rate)), np.int32)
+    for said in speech:
+        samples = at_rate(said.utterance.samples, said.utterance.sample_rate, rate)
+        start = round(said.at * rate)
+        piece = samples[: max(0, len(mix) - start)]
+        mix[start : start + len(piece)] += piece
+    return np.clip(mix, -32768, 32767).astype(np.int16), rate
+
+
+def at_rate(samples: np.ndarray, rate: int, wanted: int) -> np.ndarray:
+    """The samples resampled from `rate` to `wanted` (0 or equal: as they are)."""
+    if not wanted or rate == wanted:
+        return samples
+    times = np.arange(round(len(samples) * wanted / rate)) * (rate / wanted)
+    return np.interp(times, np.arange(len(samples)), samples).astype(np.int16)
+
+
+class WavWriter(FrameSink):
+    """The export's sound as a 16-bit mono WAV file; frames are not wanted."""
+
+    def __init__(self, path: Path, export: Export) -> None:
+        self.path = path
+        self.audio = export.audio or (np.zeros(round(export.duration * SILENT_RATE), np.int16), SILENT_RATE)
+        self.tmp, self.file = partial.create_file(path)
+
+    def add(self, frame_bgr: np.ndarray, t: float) -> None:
+        pass
+
+    def close(self) -> None:
+        samples, rate = self.audio
+        with wave.open(self.file, "wb") as out:
+            out.setnchannels(1)
+            out.setsampwidth(2)
+            out.setframerate(rate)
+            out.writeframes(samples.astype("<i2").tobytes())
+        self.file.close()
+        os.replace(self.tmp, self.path)
+
+    def abort(self) -> None:
+        self.file.close()
+        partial.remove(self.tmp)
