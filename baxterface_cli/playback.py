@@ -2,7 +2,8 @@
 
 Frames are scheduled on absolute times from the start (frame i at i/fps),
 so a slow frame makes the next one come sooner, never the whole show later:
-a late frame is dropped rather than delaying the rest.
+a late frame is dropped rather than delaying the rest. A script that speaks
+starts each utterance on the same clock (see `audio.SpeechCues`).
 """
 
 from __future__ import annotations
@@ -16,6 +17,8 @@ from typing import Callable, List, Optional, TextIO, Tuple
 import numpy as np
 from PIL import Image
 
+from .audio import START_AHEAD, SoundOut, SpeechCues
+from .effects import quoted
 from .idle import Animation
 from .renderer import Renderer
 from .timeline import RobotStatus
@@ -32,6 +35,9 @@ def status_line(t: float, duration: float, status: RobotStatus, head_pan: float,
         parts.append(f"following {status.following}" + (" (dynamic)" if status.follow_dynamic else ""))
     if status.nodding(t):
         parts.append("nodding")
+    saying = status.speaking(t)
+    if saying is not None:
+        parts.append(f"saying {quoted(saying)}")
     if note:
         parts.append(note)
     return "  ".join(parts)
@@ -165,6 +171,7 @@ class Player:
         clock: Callable[[], float] = time.monotonic,
         sleep: Callable[[float], None] = time.sleep,
         on_time: Optional[Callable[[float], None]] = None,
+        sound: Optional[Callable[[], SoundOut]] = None,
     ) -> None:
         self.animation = animation
         self.renderer = renderer
@@ -177,6 +184,9 @@ class Player:
         self.began: Optional[float] = None
         self.note = ""
         self.on_time = on_time  # told each frame's time first: for robot actions
+        self.open_sound = sound  # called once, when the first script that speaks starts
+        self.sound: Optional[SoundOut] = None
+        self.cues: Optional[SpeechCues] = None
 
     def run(
         self, loop: bool = False, hold: bool = False, poll: Optional[Callable[[], Optional[Animation]]] = None
@@ -188,30 +198,56 @@ class Player:
         `poll`, called between frames, may hand over a new animation, which
         starts from its beginning. Returns the seconds played.
         """
-        start = self.clock()
-        began = self.began = start
-        while self.screen.alive():
-            if poll is not None:
-                fresh = poll()
-                if fresh is not None:
-                    self.animation, start = fresh, self.clock()
-            elapsed = self.clock() - start
-            duration = self.animation.duration
-            if elapsed > duration:
-                if loop and duration > 0:
-                    start += duration * int(elapsed // duration)
+        self.began = self.clock()
+        ended = False
+        try:
+            start = self._begin(loop)
+            while self.screen.alive():
+                if poll is not None:
+                    fresh = poll()
+                    if fresh is not None:
+                        self.animation = fresh
+                        start = self._begin(loop)
+                elapsed = self.clock() - start
+                duration = self.animation.duration
+                if elapsed > duration:
+                    if loop and duration > 0:
+                        start += duration * int(elapsed // duration)
+                        continue
+                    self._show(duration)
+                    if not hold and not loop:
+                        ended = True  # the last words are out but for what the device still holds
+                        break
+                    self.sleep(1.0 / self.fps)  # keep the last frame, and keep polling
                     continue
-                self._show(duration)
-                if not hold and not loop:
-                    return self.clock() - began
-                self.sleep(1.0 / self.fps)  # keep the last frame, and keep polling
-                continue
-            index = int(min(elapsed, duration) * self.fps)
-            self._show(index / self.fps)
-            wait = start + (index + 1) / self.fps - self.clock()
-            if wait > 0:
-                self.sleep(wait)
-        return self.clock() - began
+                # Before `start`, the first frame; a hair over each tick counts as there (float rounding).
+                index = int(max(0.0, min(elapsed, duration)) * self.fps + 1e-9)
+                self._show(index / self.fps)
+                if self.cues is not None:
+                    self.cues.tick(self.clock())
+                wait = start + (index + 1) / self.fps - self.clock()
+                if wait > 0:
+                    self.sleep(wait)
+        finally:
+            if self.sound is not None and not ended:  # stopped early: not a word more
+                self.sound.stop()
+        return self.clock() - self.began
+
+    def _begin(self, loop: bool) -> float:
+        """Start the animation from its beginning, its sound with it; returns the clock time of t=0."""
+        speech = self.animation.timeline.speech
+        if speech and self.sound is None and self.open_sound is not None:
+            self.sound = self.open_sound()  # before the clock starts: finding a device takes a while
+        if self.sound is not None:
+            self.sound.stop()  # a reloaded or restarted script does not talk over its old self
+        self.cues = None
+        if not speech or self.sound is None or not self.sound.available:
+            return self.clock()
+        # The picture waits out the device's latency, so the first words are heard with their frame.
+        start = self.clock() + self.sound.latency + START_AHEAD
+        self.cues = SpeechCues(self.sound, speech, start, self.animation.duration if loop else 0.0)
+        self.cues.tick(self.clock())
+        return start
 
     def elapsed(self) -> float:
         """Seconds since `run` began (0 before)."""

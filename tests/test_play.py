@@ -9,11 +9,14 @@ import shutil
 import subprocess
 import sys
 import time
+from typing import List
 
+import numpy as np
 import pexpect
 import pytest
 
 from baxterface_cli import parse
+from baxterface_cli.audio import START_AHEAD, SoundOut
 from baxterface_cli.idle import Animation
 from baxterface_cli.playback import Player, TerminalScreen
 from baxterface_cli.renderer import Renderer
@@ -194,3 +197,143 @@ def test_playback_keeps_time_without_drift_dropping_frames_when_late(cost):
         assert len(screen.shown) >= 300  # every frame shown
     else:
         assert len(screen.shown) < 300  # frames dropped, time kept
+
+
+# -- speech: the sound on the picture's clock ---------------------------------
+
+
+def fake_speak(text, voice, rate):
+    from baxterface_cli.speech import Utterance
+
+    return Utterance(
+        text, voice or "en", rate or 175, np.full(int(22050 * 0.4), 1000, np.int16), 22050, (), ()
+    )
+
+
+class FakeSound(SoundOut):
+    """A device that notes when each sound would be heard."""
+
+    available = True
+
+    def __init__(self, clock: FakeClock, latency: float) -> None:
+        self.clock, self.latency = clock, latency
+        self.heard: List[float] = []  # when each sound's first sample would be heard
+        self.cut: List[float] = []
+        self.stops = 0
+
+    def play(self, samples, rate, skip=0.0):
+        self.heard.append(self.clock() + self.latency - skip)
+        self.cut.append(max(0.0, skip))
+
+    def stop(self):
+        self.stops += 1
+
+
+class SayingScreen(CostlyScreen):
+    """Notes when the status line first says each thing."""
+
+    def __init__(self, clock: FakeClock, cost) -> None:
+        super().__init__(clock, cost)
+        self.first_said: List[float] = []
+        self.saying = ""
+
+    def show(self, frame, status) -> None:
+        found = re.search(r'saying "([^"]*)"', status)
+        said = found.group(1) if found else ""
+        if said and said != self.saying:
+            self.first_said.append(self.clock.now)
+        self.saying = said
+        super().show(frame, status)
+
+
+def speaking_player(text, cost=0.002, latency=0.12, screen_class=SayingScreen):
+    timeline = compile_script(parse(text), speak=fake_speak)
+    clock = FakeClock()
+    screen = screen_class(clock, lambda: cost)
+    sound = FakeSound(clock, latency)
+    opened = []
+
+    def open_sound():
+        opened.append(clock.now)
+        return sound
+
+    player = Player(
+        Animation(timeline),
+        Renderer(Theme.default().layers((64, 40))),
+        screen,
+        30,
+        clock,
+        clock.sleep,
+        sound=open_sound,
+    )
+    return player, screen, sound, opened
+
+
+@pytest.mark.parametrize("cost", [0.002, 0.05])
+def test_each_utterance_is_heard_as_the_frame_that_starts_saying_it_is_shown(cost):
+    player, screen, sound, opened = speaking_player('wait 0.5s; say "one"; wait 0.3s; say "two"', cost)
+    begun = player.clock()
+    player.run()
+    assert opened == [begun]  # once, before the clock started
+    assert len(sound.heard) == 2 and sound.cut == [0.0, 0.0]  # started ahead, so nothing is lost
+    assert len(screen.first_said) == 2
+    for heard, shown in zip(sound.heard, screen.first_said):
+        assert 0.0 <= shown - heard <= 1 / 30 + 1.5 * cost  # the frame comes on its tick, after drawing
+    # The picture waited out the device's latency (and a margin for its next block): script time 0
+    # is heard that long after the start.
+    assert sound.heard[0] == pytest.approx(begun + 0.12 + START_AHEAD + 0.5)
+    assert sound.stops == 1  # at the start; the end lets the last words out
+
+
+def test_an_utterance_started_late_skips_what_it_missed_and_keeps_to_the_script_clock():
+    player, screen, sound, _ = speaking_player('wait 1s; say "one"')
+    costs = iter([0.001] * 15 + [0.6])  # the frame at 0.5 s takes 0.6 s: the utterance is due meanwhile
+    screen.cost = lambda: next(costs, 0.001)
+    begun = player.clock()
+    player.run()
+    (cut,) = sound.cut
+    assert cut == pytest.approx(0.5 + 0.6 - 1.0 + 0.12)  # how late, counting the device's latency
+    assert sound.heard == [pytest.approx(begun + 0.12 + START_AHEAD + 1.0)]  # the rest where it belongs
+
+
+def test_looping_says_it_again_each_time_round_and_stops_when_closed():
+    player, screen, sound, _ = speaking_player('say "again"; wait 0.1s', cost=0.0)
+    screen.alive = lambda: (
+        screen.clock.now < 100.0 + 0.12 + START_AHEAD + 2.6
+    )  # five laps of 0.5 s, and a bit
+    player.run(loop=True)
+    assert len(sound.heard) == 6  # five laps, and the sixth's started ahead of its time
+    laps = np.diff(sound.heard)
+    assert laps == pytest.approx([0.5] * 5)
+    assert sound.stops == 2  # at the start, and as the window closed
+
+
+def test_a_script_that_says_nothing_opens_no_sound():
+    player, _, sound, opened = speaking_player("look left in 0.3s")
+    player.run()
+    assert opened == [] and player.sound is None and sound.heard == []
+
+
+def test_without_a_device_the_picture_keeps_its_own_time():
+    player, screen, _, _ = speaking_player('say "hi"', cost=0.0)
+    player.open_sound = SoundOut  # the silent one: no device
+    begun = player.clock()
+    played = player.run()
+    assert player.cues is None
+    assert played == pytest.approx(0.4, abs=1 / 30)  # no lead for a latency there is not
+    assert screen.first_said == [begun]
+
+
+def test_a_reloaded_script_silences_the_old_one_and_speaks_from_its_start():
+    player, screen, sound, _ = speaking_player('say "old"; wait 2s')
+    fresh = Animation(compile_script(parse('wait 0.1s; say "new"'), speak=fake_speak))
+    polls: List[float] = []
+
+    def poll():
+        polls.append(player.clock())
+        return fresh if len(polls) == 10 else None
+
+    player.run(poll=poll)
+    assert sound.stops == 2  # the old words stop as the new script starts
+    assert len(sound.heard) == 2
+    assert sound.heard[-1] == pytest.approx(polls[9] + 0.12 + START_AHEAD + 0.1)  # from its own start
