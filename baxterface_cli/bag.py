@@ -12,7 +12,8 @@ $SOURCE_DATE_EPOCH, for reproducible bags, or else the whole second the
 render began. Header stamps equal the bag times.
 
 md5sums are computed from the definitions as genmsg does; the robot and
-`rosbag play` check them. Baxter's definitions are those in ros/messages.py.
+`rosbag play` check them. Baxter's and sound_play's definitions are those in
+ros/messages.py.
 """
 
 from __future__ import annotations
@@ -155,7 +156,7 @@ def _message_type(name: str, text: str, nested: Tuple[Tuple[str, str, str], ...]
 def message_types() -> Dict[str, MessageType]:
     """Every type a bag holds, by package/Name: the display's and the robot commands'."""
     texts = {"std_msgs/Bool": BOOL_TEXT}
-    texts.update((f"baxter_core_msgs/{name}", text) for name, (text, _) in DEFINITIONS.items())
+    texts.update((name, carried.text) for name, carried in DEFINITIONS.items())
     types = {
         "sensor_msgs/Image": _message_type(
             "sensor_msgs/Image", IMAGE_TEXT, (("Header", "std_msgs/Header", HEADER_TEXT),)
@@ -165,11 +166,19 @@ def message_types() -> Dict[str, MessageType]:
     return types
 
 
+def _string(text: str) -> bytes:
+    data = text.encode("utf-8")
+    return _u32(len(data)) + data
+
+
+# How each builtin field type is written: little-endian and packed; a string as its length, then UTF-8.
+_WRITE = {kind: struct.Struct("<" + code).pack for kind, code in _PACK.items()}
+_WRITE["string"] = _string
+
+
 def serialize_flat(kind: MessageType, fields: Dict[str, Any]) -> bytes:
-    """A message of fixed-size builtin fields, serialized as ROS 1 does (little-endian, packed)."""
-    return struct.pack(
-        "<" + "".join(_PACK[t] for t, _ in kind.fields), *(fields[name] for _, name in kind.fields)
-    )
+    """A message of builtin fields (numbers, bools, strings), serialized as ROS 1 does."""
+    return b"".join(_WRITE[t](fields[name]) for t, name in kind.fields)
 
 
 def _u32(n: int) -> bytes:

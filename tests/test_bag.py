@@ -11,27 +11,25 @@ from __future__ import annotations
 import json
 import os
 import re
-import signal
 import subprocess
 import sys
 import textwrap
-import time
 
 import numpy as np
 import pytest
 from PIL import Image
-from test_ros import free_port
 
 from baxterface_cli.ros.messages import DEFINITIONS, message_class
 from conftest import ROOT, baxterface
 
 pytestmark = pytest.mark.ros
 
-SCRIPT = "happy; look 40 0 in 1s; wobble 0.5 in 1s; nod; disable; enable; sad"
+SCRIPT = 'happy; look 40 0 in 1s; wobble 0.5 in 1s; nod; say "Hello there"; disable; enable; sad'
 FPS = 30
 START = 1_700_000_000  # SOURCE_DATE_EPOCH: the bag's time at the script's start
 NS = 1_000_000_000
 PAN, NOD, ENABLE = "/robot/head/command_head_pan", "/robot/head/command_head_nod", "/robot/set_super_enable"
+SOUND = "/robotsound"
 
 
 def render_bag(path, *args, script=SCRIPT, start=START):
@@ -92,29 +90,6 @@ def bag(tmp_path_factory):
     return render_bag(tmp_path_factory.mktemp("bag") / "x.bag")
 
 
-@pytest.fixture(scope="module")
-def roscore(tmp_path_factory):
-    """A roscore on a free loopback port, and the environment that reaches it."""
-    port = free_port()
-    env = dict(
-        os.environ,
-        ROS_MASTER_URI=f"http://127.0.0.1:{port}",
-        ROS_IP="127.0.0.1",
-        ROS_HOME=str(tmp_path_factory.mktemp("ros_home")),
-    )
-    env.pop("ROS_HOSTNAME", None)
-    core = subprocess.Popen(
-        ["roscore", "-p", str(port)], env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL
-    )
-    deadline = time.monotonic() + 30
-    while subprocess.run(["rosnode", "list"], env=env, capture_output=True, timeout=30).returncode != 0:
-        assert core.poll() is None and time.monotonic() < deadline, "roscore did not start"
-        time.sleep(0.2)
-    yield env
-    core.send_signal(signal.SIGINT)
-    core.wait(timeout=30)
-
-
 def test_a_bag_holds_the_frames_and_robot_commands_at_their_times(bag, tmp_path):
     summary = info(bag)
     messages = read(bag)
@@ -125,6 +100,7 @@ def test_a_bag_holds_the_frames_and_robot_commands_at_their_times(bag, tmp_path)
         (PAN, "baxter_core_msgs/HeadPanCommand", 1),
         (NOD, "std_msgs/Bool", 1),
         (ENABLE, "std_msgs/Bool", 2),
+        (SOUND, "sound_play/SoundRequest", 1),
     }
     assert summary["start"] == START  # the first frame, at the script's start
 
@@ -166,18 +142,23 @@ def test_a_bag_holds_the_frames_and_robot_commands_at_their_times(bag, tmp_path)
     wanted = []
     for at, what in robot_lines():
         pan = re.match(r"head pan to ([-+][\d.]+) rad over .* \(speed ([\d.]+)\)", what)
+        say = re.match(r'say "(.*)" \(', what)
         if pan:
             wanted.append((at, PAN, (float(pan.group(1)), float(pan.group(2)), 1)))
+        elif say:  # SAY (-3), PLAY_ONCE (1): sound_play says the text itself
+            wanted.append((at, SOUND, (-3, 1, 1.0, say.group(1), "")))
         else:
             wanted.append(
                 (at, *{"nod": (NOD, True), "enable": (ENABLE, True), "disable": (ENABLE, False)}[what])
             )
-    assert [w[1] for w in wanted] == [PAN, NOD, ENABLE, ENABLE]
+    assert [w[1] for w in wanted] == [PAN, NOD, SOUND, ENABLE, ENABLE]
     assert len(commands) == len(wanted)
     for (at, topic, msg), (want_at, want_topic, want) in zip(commands, wanted):
         assert (topic, abs(at - want_at) < 0.006) == (want_topic, True)  # explain prints 2 decimals
         if topic == PAN:
             assert (msg.target, msg.speed_ratio, msg.enable_pan_request) == pytest.approx(want, abs=0.006)
+        elif topic == SOUND:
+            assert (msg.sound, msg.command, msg.volume, msg.arg, msg.arg2) == want
         else:
             assert msg.data is want
 
@@ -189,6 +170,7 @@ def test_a_bag_holds_the_frames_and_robot_commands_at_their_times(bag, tmp_path)
         "sensor_msgs/Image": RosImage,
         "std_msgs/Bool": Bool,
         "baxter_core_msgs/HeadPanCommand": message_class("HeadPanCommand"),
+        "sound_play/SoundRequest": message_class("sound_play/SoundRequest"),
     }
     for _, _, _, header in messages:
         cls = classes[header["type"].decode()]
@@ -197,15 +179,15 @@ def test_a_bag_holds_the_frames_and_robot_commands_at_their_times(bag, tmp_path)
 
 
 def test_rosbag_check_finds_nothing_to_migrate(bag, tmp_path):
-    # The robot has baxter_core_msgs; here a stand-in package from the SDK's definition.
-    package = tmp_path / "baxter_core_msgs"
-    (package / "msg").mkdir(parents=True)
-    (package / "__init__.py").write_text("")
-    (package / "msg" / "__init__.py").write_text(
-        "import genpy.dynamic\n"
-        f"HeadPanCommand = genpy.dynamic.generate_dynamic('baxter_core_msgs/HeadPanCommand', "
-        f"{DEFINITIONS['HeadPanCommand'][0]!r})['baxter_core_msgs/HeadPanCommand']\n"
-    )
+    # The robot has baxter_core_msgs, and a lab sound_play; here stand-in packages from their definitions.
+    for kind in ("baxter_core_msgs/HeadPanCommand", "sound_play/SoundRequest"):
+        package, name = kind.split("/")
+        (tmp_path / package / "msg").mkdir(parents=True)
+        (tmp_path / package / "__init__.py").write_text("")
+        (tmp_path / package / "msg" / "__init__.py").write_text(
+            "import genpy.dynamic\n"
+            f"{name} = genpy.dynamic.generate_dynamic({kind!r}, {DEFINITIONS[kind].text!r})[{kind!r}]\n"
+        )
     run = rosbag("check", str(bag), env=dict(os.environ, PYTHONPATH=str(tmp_path)))
     assert run.returncode == 0, run.stderr
     assert "Bag file does not need any migrations." in run.stdout, run.stdout

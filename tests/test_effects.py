@@ -8,6 +8,7 @@ import pkgutil
 import subprocess
 import sys
 
+import numpy as np
 import pytest
 
 import baxterface_cli
@@ -16,8 +17,20 @@ from baxterface_cli import parse
 from baxterface_cli.effects import EffectHandler, EffectWords, StatusFold
 from baxterface_cli.geometry import dynamic_look, to_pixels
 from baxterface_cli.ros.robot_link import COMMAND_TYPES, ros_commands
+from baxterface_cli.speech import Phoneme, Utterance, Word
 from baxterface_cli.timeline import compile_script
 from conftest import ROOT, baxterface
+
+# Half a second of a made-up "Hi", built by hand: effects need no speech engine.
+HI = Utterance(
+    text="Hi",
+    voice="en",
+    rate=175,
+    samples=np.zeros(11025, np.int16),
+    sample_rate=22050,
+    phonemes=(Phoneme(0.0, 0.2, "h"), Phoneme(0.2, 0.5, "aI")),
+    words=(Word(0.0, "Hi"),),
+)
 
 ONE_OF_EACH = [
     fx.HeadPan(0.3, speed=0.6, duration=0.5),
@@ -25,6 +38,7 @@ ONE_OF_EACH = [
     fx.SetEnabled(True),
     fx.Follow("left arm", dynamic=True),
     fx.Exit(),
+    fx.Speech(HI),
 ]
 
 
@@ -72,12 +86,16 @@ def test_each_effect_reaches_its_own_method():
         def exit(self, effect, at):
             return "exit"
 
+        def speech(self, effect, at):
+            return "speech"
+
     assert [e.visit(Recorder(), 0.0) for e in ONE_OF_EACH] == [
         "head_pan",
         "head_nod",
         "set_enabled",
         "follow",
         "exit",
+        "speech",
     ]
 
 
@@ -97,6 +115,7 @@ def test_effects_in_words():
         "enable",
         "follow left arm dynamic",
         "exit: the face node shuts down",
+        'say "Hi" (0.50 s, voice en, 175 words a minute)',
     ]
 
 
@@ -112,10 +131,11 @@ def test_the_status_folds_effects_in_time_order():
         True,
     )
     assert status.nodding(1.5) and not status.nodding(2.0)  # nodded at 1 s, for 1 s
+    assert (status.speaking(5.4), status.speaking(5.5)) == ("Hi", None)  # said at 5 s, for 0.5 s
 
 
 def test_one_mapping_from_effects_to_ros_messages():
-    pan, nod, enable, follow, leave = (ros_commands(e) for e in ONE_OF_EACH)
+    pan, nod, enable, follow, leave, say = (ros_commands(e) for e in ONE_OF_EACH)
     (command,) = pan
     assert command.topic == "/robot/head/command_head_pan"
     assert command.fields == {"target": 0.3, "speed_ratio": 0.6, "enable_pan_request": 1}
@@ -123,15 +143,22 @@ def test_one_mapping_from_effects_to_ros_messages():
     assert enable == [("/robot/set_super_enable", {"data": True})]
     assert ros_commands(fx.SetEnabled(False))[0].fields == {"data": False}
     assert follow == [] and leave == []
+    # sound_play says the text itself: a bag replayed later cannot name a sound file of ours.
+    sound = {"sound": -3, "command": 1, "volume": 1.0, "arg": "Hi", "arg2": ""}
+    assert say == [("/robotsound", sound)]
     assert {c.topic for e in ONE_OF_EACH for c in ros_commands(e)} == set(COMMAND_TYPES)
 
 
 def test_every_statement_for_the_robot_explains_without_error():
     run = baxterface(
-        "explain", "-", stdin="nod; enable; disable; follow human dynamic; follow off; wobble 3; exit"
+        "explain",
+        "-",
+        stdin='nod; enable; disable; follow human dynamic; follow off; wobble 3; say "Hi"; exit',
     )
     assert run.code == 0, run.err
     robot = [line.split("robot ", 1)[1] for line in run.out.splitlines() if " robot " in line]
+    said = robot.pop(-2)  # how long "Hi" takes is espeak-ng's to say
+    assert said.startswith('say "Hi" (') and said.endswith(" s, voice en, 175 words a minute)")
     assert robot == [
         "nod",
         "enable",

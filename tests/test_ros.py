@@ -12,7 +12,6 @@ import random
 import shlex
 import shutil
 import signal
-import socket
 import struct
 import subprocess
 import sys
@@ -23,15 +22,9 @@ from pathlib import Path
 import pytest
 
 from baxterface_cli.tables import LIMITS
-from conftest import ROOT, baxterface
+from conftest import ROOT, baxterface, free_port
 
 pytestmark = pytest.mark.ros
-
-
-def free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
 
 
 @pytest.fixture(scope="session")

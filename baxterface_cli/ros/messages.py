@@ -1,20 +1,31 @@
-"""Baxter's own message types (SDK 1.2), without needing baxter_core_msgs.
+"""Message types the robot's side needs that Debian's ROS lacks: Baxter's own, and sound_play's.
 
-The robot refuses a publisher whose message md5sum differs from its own, so
-the definitions are carried here word for word and built with genpy when the
-`baxter_core_msgs` package is not installed; an installed one is preferred.
-`check()` compares every class's md5sum with the SDK's.
+A subscriber refuses a publisher whose message md5sum differs from its own, so
+the definitions are carried here word for word and built with genpy when their
+package is not installed; an installed one is preferred. `check()` compares
+every built class's md5sum with the one its package publishes.
 """
 
 from __future__ import annotations
 
-from typing import Any, Dict
+from typing import Any, Dict, NamedTuple, Tuple
+
+BAXTER = "baxter_core_msgs"  # the package a bare name ("HeadPanCommand") means
 
 SEPARATOR = "=" * 80
 
-# type -> (definition, md5sum from the SDK 1.2 release)
-DEFINITIONS: Dict[str, tuple] = {
-    "HeadPanCommand": (
+
+class Carried(NamedTuple):
+    """A message type's definition, its md5sum as its package has it, and the types it uses."""
+
+    text: str
+    md5sum: str
+    dependencies: Tuple[str, ...] = ()  # package/Name of each, from the installed standard packages
+
+
+# package/Name -> the carried type. Baxter's are the SDK 1.2 release's.
+DEFINITIONS: Dict[str, Carried] = {
+    "baxter_core_msgs/HeadPanCommand": Carried(
         """float32 target              # radians for target, 0 str
 float32 speed_ratio         # Percentage of max speed [0-1]
 #
@@ -30,7 +41,7 @@ uint8   enable_pan_request  # override automatic pan enable/disable
 """,
         "23b8a3f4b7ee9de7099d029e57660a8c",
     ),
-    "HeadState": (
+    "baxter_core_msgs/HeadState": Carried(
         """float32 pan
 bool isTurning
 bool isNodding
@@ -38,7 +49,7 @@ bool isPanEnabled
 """,
         "71c43b264307205358e7e49be5601348",
     ),
-    "AssemblyState": (
+    "baxter_core_msgs/AssemblyState": Carried(
         """bool ready               # true if enabled and ready to operate, e.g., not homing
 bool enabled             # true if enabled
 bool stopped             # true if stopped -- e-stop asserted
@@ -60,15 +71,16 @@ uint8  estop_source      # If stopped is true, the source of the e-stop.  One of
 """,
         "356d9dd237ce73b2667da9235f541933",
     ),
-    "EndpointState": (
+    "baxter_core_msgs/EndpointState": Carried(
         """Header header
 geometry_msgs/Pose   pose
 geometry_msgs/Twist  twist
 geometry_msgs/Wrench wrench
 """,
         "44bea01d596ff699fa1447bec34167ac",
+        ("std_msgs/Header", "geometry_msgs/Pose", "geometry_msgs/Twist", "geometry_msgs/Wrench"),
     ),
-    "NavigatorState": (
+    "baxter_core_msgs/NavigatorState": Carried(
         """# buttons
 string[] button_names
 bool[] buttons
@@ -83,55 +95,90 @@ bool[] lights
 """,
         "680d121a1f16a32647298b292492fffd",
     ),
-}
+    # sound_play's as ROS Noetic has it: ros-drivers/audio_common, tag 0.3.18,
+    # sound_play/msg/SoundRequest.msg (with `volume` and `arg2`; a `reverb` field proposed
+    # since is in no release). Its md5sum as rosserial generated it, in jsk-ros-pkg/jsk_3rdparty,
+    # smart_device_protocol/ros_lib/ros_lib/sound_play/SoundRequest.h (getMD5).
+    "sound_play/SoundRequest": Carried(
+        """# IMPORTANT: You should never have to generate this message yourself.
+# Use the sound_play::SoundClient C++ helper or the
+# sound_play.libsoundplay.SoundClient Python helper.
 
-# Types the definitions above refer to, from the installed standard packages.
-DEPENDENCIES = {
-    "EndpointState": ("std_msgs/Header", "geometry_msgs/Pose", "geometry_msgs/Twist", "geometry_msgs/Wrench")
+# Sounds
+int8 BACKINGUP = 1
+int8 NEEDS_UNPLUGGING = 2
+int8 NEEDS_PLUGGING = 3
+int8 NEEDS_UNPLUGGING_BADLY = 4
+int8 NEEDS_PLUGGING_BADLY = 5
+
+# Sound identifiers that have special meaning
+int8 ALL = -1 # Only legal with PLAY_STOP
+int8 PLAY_FILE = -2
+int8 SAY = -3
+
+int8 sound # Selects which sound to play (see above)
+
+# Commands
+int8 PLAY_STOP = 0 # Stop this sound from playing
+int8 PLAY_ONCE = 1 # Play the sound once
+int8 PLAY_START = 2 # Play the sound in a loop until a stop request occurs
+
+int8 command # Indicates what to do with the sound
+
+# Volume at which to play the sound, with 0 as mute and 1.0 as 100%.
+float32 volume
+
+string arg # file name or text to say
+string arg2 # other arguments
+""",
+        "d098ce4a040686259137ece23a625167",
+    ),
 }
 
 _classes: Dict[str, Any] = {}
 
 
-def message_class(name: str) -> Any:
-    """The class of baxter_core_msgs/`name`: installed, or built from the carried definition."""
-    if name in _classes:
-        return _classes[name]
-    try:
-        import importlib
+def full_name(name: str) -> str:
+    """package/Name for a type name; a bare name is Baxter's."""
+    return name if "/" in name else f"{BAXTER}/{name}"
 
-        cls = getattr(importlib.import_module("baxter_core_msgs.msg"), name)
-    except (ImportError, AttributeError):
-        cls = _generate(name)
-    _classes[name] = cls
-    return cls
+
+def message_class(name: str) -> Any:
+    """The class of a message type ("sound_play/SoundRequest"; "HeadPanCommand" is Baxter's):
+    its installed package's, or else built from the carried definition."""
+    name = full_name(name)
+    if name not in _classes:
+        try:
+            _classes[name] = _installed(name)
+        except (ImportError, AttributeError):
+            if name not in DEFINITIONS:
+                raise
+            _classes[name] = _generate(name)
+    return _classes[name]
+
+
+def _installed(name: str) -> Any:
+    import importlib
+
+    package, short = name.split("/")
+    return getattr(importlib.import_module(f"{package}.msg"), short)
 
 
 def _generate(name: str) -> Any:
     import genpy.dynamic
 
-    text, _ = DEFINITIONS[name]
-    full = text
+    full = DEFINITIONS[name].text
     for dependency in _dependency_closure(name):
-        full += f"\n{SEPARATOR}\nMSG: {dependency}\n{_installed_text(dependency)}"
-    return genpy.dynamic.generate_dynamic(f"baxter_core_msgs/{name}", full)[f"baxter_core_msgs/{name}"]
-
-
-def _installed_text(type_name: str) -> str:
-    package, name = type_name.split("/")
-    import importlib
-
-    return getattr(importlib.import_module(f"{package}.msg"), name)._full_text.split(f"\n{SEPARATOR}")[0]
+        own = _installed(dependency)._full_text.split(f"\n{SEPARATOR}")[0]
+        full += f"\n{SEPARATOR}\nMSG: {dependency}\n{own}"
+    return genpy.dynamic.generate_dynamic(name, full)[name]
 
 
 def _dependency_closure(name: str) -> list:
     """Every message type the definition needs, nested ones included, each once."""
-    import importlib
-
     seen: list = []
-    for top in DEPENDENCIES.get(name, ()):
-        package, short = top.split("/")
-        full_text = getattr(importlib.import_module(f"{package}.msg"), short)._full_text
+    for top in DEFINITIONS[name].dependencies:
+        full_text = _installed(top)._full_text
         for dependency in [top] + [
             line[5:].strip() for line in full_text.splitlines() if line.startswith("MSG: ")
         ]:
@@ -141,5 +188,5 @@ def _dependency_closure(name: str) -> list:
 
 
 def check() -> Dict[str, bool]:
-    """Does each class's md5sum match the SDK's?"""
-    return {name: message_class(name)._md5sum == md5 for name, (_, md5) in DEFINITIONS.items()}
+    """Does each class's md5sum match its package's?"""
+    return {name: message_class(name)._md5sum == carried.md5sum for name, carried in DEFINITIONS.items()}

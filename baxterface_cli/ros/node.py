@@ -3,9 +3,10 @@
 It listens on `display_chatter` (old commands and scripts alike), draws with
 the same engine as `play`, publishes changed frames on /robot/xdisplay as
 bgr8 through one latched publisher, drives the head, nod and enable
-topics through the core `Robot` (robot_link), and reports what the face is
-doing on `~state` (JSON, latched). All work happens in one loop; subscriber
-callbacks only hand messages over.
+topics through the core `Robot` (robot_link), speaks through the `_audio`
+mode's speaker, and reports what the face is doing on `~state` (JSON,
+latched). All work happens in one loop; subscriber callbacks only hand
+messages over.
 """
 
 from __future__ import annotations
@@ -17,9 +18,10 @@ import signal
 import sys
 import threading
 import time
-from typing import Any, List
+from typing import Any, List, Optional, Tuple
 
 from ..backlog import Backlog
+from ..effects import Speech
 from ..intake import Intake
 from ..live import LiveFace, sleep_face
 from ..renderer import Renderer, pose
@@ -27,7 +29,7 @@ from ..state import FaceState
 from ..tables import BROWS, MOUTHS, SKINS
 from ..theme import parse_size, resolve
 from .messages import message_class
-from .robot_link import DISPLAY_TOPICS, WARN_EVERY, connect_robot
+from .robot_link import DEFAULT_AUDIO, DISPLAY_TOPICS, WARN_EVERY, connect_robot, open_speaker
 
 STATE_EVERY = 0.1  # seconds between ~state messages while the face moves
 # After a command, the next frame comes this soon rather than at the next
@@ -81,7 +83,9 @@ class FaceNode:
         self.state_pub = rospy.Publisher("~state", String, latch=True, queue_size=1)
         levels = {"info": rospy.loginfo, "warn": rospy.logwarn, "error": rospy.logerr}
         self.log = Backlog(lambda level, text: levels[level](text))  # never logs from the loop
-        self.robot = connect_robot(rospy, warn=self.log.warn, info=self.log.info)
+        self.speaker = open_speaker(str(rospy.get_param("~audio", DEFAULT_AUDIO)), rospy, self.log.warn)
+        self.saying: Optional[Tuple[str, float]] = None  # (text, when it ends) while the face speaks
+        self.robot = connect_robot(rospy, warn=self.log.warn, info=self.log.info, speak=self._speak)
 
         self.wake = threading.Event()
         self.stop = threading.Event()
@@ -133,9 +137,20 @@ class FaceNode:
         else:
             self.rospy.logwarn_throttle(WARN_EVERY, f"skipped a {side} hand pose that is not finite")
 
+    def _speak(self, effect: Speech) -> None:
+        # Timed here, not by the script's status: a take-over restarts the script's clock.
+        self.saying = (effect.utterance.text, time.monotonic() + effect.duration)
+        self.speaker.speak(effect)
+
     # -- the loop
 
     def run(self) -> int:
+        try:
+            return self._run()
+        finally:
+            self.speaker.close()
+
+    def _run(self) -> int:
         sys.setswitchinterval(SWITCH_INTERVAL)
         young, middle, _ = gc.get_threshold()
         gc.set_threshold(young, middle, FULL_COLLECTION_EVERY)
@@ -200,6 +215,9 @@ class FaceNode:
         took = self.intake.hand_over(now, warn=self.log.warn, error=self.log.error)
         if took is not None:
             self.last_state_at = -math.inf  # report the change at once
+        if took:  # what was being said is cut off with the script that said it
+            self.saying = None
+            self.speaker.stop()
         return bool(took)
 
     def _publish_frame(self, state: FaceState, now: float, force: bool = False) -> None:
@@ -230,6 +248,7 @@ class FaceNode:
             "follow_dynamic": robot.follow_dynamic,
             "playing": not self.live.finished(now),
             "queued": len(self.live.queue),
+            "saying": self.saying[0] if self.saying and now < self.saying[1] else None,
         }
         text = json.dumps(report, sort_keys=True)
         if text != self.last_state_text or force:

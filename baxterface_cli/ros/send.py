@@ -9,7 +9,7 @@ from ..effects import Cue
 from ..idle import Animation
 from ..playback import Player
 from ..renderer import Renderer
-from .robot_link import DISPLAY_TOPICS, connect_robot
+from .robot_link import DEFAULT_AUDIO, DISPLAY_TOPICS, connect_robot, open_speaker
 
 
 class NoSubscriber(Exception):
@@ -58,27 +58,39 @@ class _RosScreen:
         return not self.rospy.is_shutdown()
 
 
-def stream(animation: Animation, renderer: Renderer, robot: str, fps: float, argv: List[str]) -> float:
-    """Play `animation` on the robot's screen in real time, with its robot effects.
+def stream(
+    animation: Animation,
+    renderer: Renderer,
+    robot: str,
+    fps: float,
+    argv: List[str],
+    audio: str = DEFAULT_AUDIO,
+) -> float:
+    """Play `animation` on the robot's screen in real time, with its robot effects and speech.
 
-    The effects go through the same core `Robot` as the face node's, so one
-    script sends the same commands at the same times from both.
+    The effects go through the same core `Robot` as the face node's, and the
+    speech through the same speaker for the `audio` mode, so one script sends
+    the same commands at the same times from both.
     """
     import rospy
 
     rospy.init_node("baxterface_stream", argv=argv, anonymous=True, disable_signals=True)
     screen = _RosScreen(DISPLAY_TOPICS[robot])
-    arm = connect_robot(rospy)
-    time.sleep(0.5)  # let subscribers connect before the first frame
-    pending: List[Cue] = list(animation.timeline.cues)
+    speaker = open_speaker(audio, rospy, rospy.logwarn, name="--audio")
+    try:
+        arm = connect_robot(rospy, speak=speaker.speak)
+        time.sleep(0.5)  # let subscribers connect before the first frame
+        pending: List[Cue] = list(animation.timeline.cues)
 
-    def on_time(t: float) -> None:
-        while pending and pending[0].at <= t:
-            arm.take(pending.pop(0).effect, t)
-        arm.tick(t)
+        def on_time(t: float) -> None:
+            while pending and pending[0].at <= t:
+                arm.take(pending.pop(0).effect, t)
+            arm.tick(t)
 
-    player = Player(animation, renderer, screen, fps, on_time=on_time)
-    played = player.run()
-    time.sleep(0.3)
+        player = Player(animation, renderer, screen, fps, on_time=on_time)
+        played = player.run()
+        time.sleep(0.3)
+    finally:
+        speaker.close()
     rospy.signal_shutdown("streamed")
     return played
