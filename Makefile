@@ -13,9 +13,10 @@ SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 ROS_PACKAGES := ros-core python3-rospy python3-cv-bridge python3-sensor-msgs python3-std-msgs \
 	python3-geometry-msgs python3-genpy python3-rostopic
 # Xvfb: a screen for the tests of `play`'s window; ffmpeg: ffprobe reads the videos written, and
-# the `ffmpeg` program is what `render` falls back to without PyAV.
-TEST_PACKAGES := $(ROS_PACKAGES) python3-venv xvfb ffmpeg
-EXTRAS := test,video,bag
+# the `ffmpeg` program is what `render` falls back to without PyAV; espeak-ng speaks `say`;
+# PortAudio is what `play` sounds through; sox reads the sounds in the tests.
+TEST_PACKAGES := $(ROS_PACKAGES) python3-venv xvfb ffmpeg espeak-ng libespeak-ng1 libportaudio2 sox
+EXTRAS := test,video,bag,speech
 PIP_QUIET := --quiet --disable-pip-version-check
 
 .PHONY: play test lint format golden theme pictures bench system venv venv38 venv-ros ros clean
@@ -44,7 +45,8 @@ $(VENV_ROS)/.installed: pyproject.toml | system
 # Debian packages: ROS 1 (roscore, rospy, cv_bridge; see ../shared/spec/baxter-ros.md) and Xvfb.
 system:
 	@command -v roscore >/dev/null 2>&1 && command -v Xvfb >/dev/null 2>&1 && \
-		command -v ffprobe >/dev/null 2>&1 || { \
+		command -v ffprobe >/dev/null 2>&1 && command -v espeak-ng >/dev/null 2>&1 && \
+		command -v sox >/dev/null 2>&1 && ls /usr/lib/*/libportaudio.so.2 >/dev/null 2>&1 || { \
 		$(SUDO) apt-get update -qq && \
 		$(SUDO) env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $(TEST_PACKAGES) >/dev/null; }
 
@@ -84,6 +86,7 @@ bench: venv venv-ros
 	$(BIN)/python bench/bench_follow.py
 	$(BIN)/python bench/bench_check.py
 	$(BIN)/python bench/bench_export.py
+	$(VENV_ROS)/bin/python bench/bench_speech.py
 
 # A ROS-ready environment: installs ROS from Debian, then .venv-ros sees it.
 ros: venv-ros

@@ -2,7 +2,9 @@
 
     python docs/make_pictures.py
 
-Run it again after the theme or the renderer changes what a face looks like.
+Run it again after the theme or the renderer changes what a face looks like,
+or the speech or its mouth shapes change. lipsync.png speaks, so it needs
+espeak-ng (apt install espeak-ng).
 """
 
 from __future__ import annotations
@@ -15,12 +17,14 @@ import numpy as np
 from PIL import Image, ImageDraw, ImageFont
 
 from baxterface_cli import Face, parse
+from baxterface_cli.extras import MissingTool
 from baxterface_cli.idle import Animation
 from baxterface_cli.renderer import Renderer
 from baxterface_cli.rendering import render
-from baxterface_cli.tables import EMOTIONS
+from baxterface_cli.tables import EMOTIONS, REST, viseme_mouth
 from baxterface_cli.theme import Theme
 from baxterface_cli.timeline import compile_script
+from baxterface_cli.visemes import shape_at
 
 OUT = Path(__file__).resolve().parent / "images"
 THUMB = (320, 188)  # 1024x600 over 3.2: the face's own proportions
@@ -30,9 +34,9 @@ INK = (34, 34, 40)
 PAPER = (255, 255, 255)
 
 
-def font() -> ImageFont.ImageFont:
+def font(size: int = 18) -> ImageFont.ImageFont:
     try:
-        return ImageFont.load_default(size=18)
+        return ImageFont.load_default(size=size)
     except TypeError:  # Pillow before 10.1 has only its small bitmap font
         return ImageFont.load_default()
 
@@ -104,6 +108,121 @@ def hello() -> Image.Image:
     return face.image()
 
 
+def speech_mouths() -> Image.Image:
+    """The default theme's speech mouths, close up: the mouth at the robot's own pixels."""
+    box = (352, 410, 352 + THUMB[0], 410 + THUMB[1])  # the 320x188 round the mouth of a 1024x600 face
+    cells = []
+    for shape, sounds in [
+        ("closed", "p b m"),
+        ("slight", "most consonants"),
+        ("fv", "f v"),
+        ("lth", "l th"),
+        ("wide", "e i"),
+        ("round", "o u w"),
+        ("open", "a as in father"),
+    ]:
+        face = Face()
+        # Face.set_mouth takes the emotions' mouths only: speech shapes come with `say`.
+        face.state = face.state.replace(mouth=viseme_mouth(shape))
+        cells.append((f"speak-{shape}: {sounds}", face.image().crop(box)))
+    cells.append(("smile: at rest", Face().image().crop(box)))
+    return sheet(cells, columns=4)
+
+
+LIPSYNC_TEXT = "Hello there, I am Baxter. Bob met Pam."
+MOUTH_BOX = (366, 432, 658, 590)  # every mouth of the default theme at 1024x600, with a margin
+WAVE = (70, 110, 170)
+RESTING = (234, 236, 242)
+CLOSED = (205, 55, 55)
+FAINT = (160, 160, 170)
+
+
+def lipsync(fps: int = 30, width: int = 1200) -> Image.Image:
+    """One sentence over time: its sound, its words, and the mouth of every frame at `fps`.
+
+    The sound and the word times are the utterance's own (espeak-ng's), the mouths
+    the real renderer's frames of `say`, cropped. A line is a stretch of the sentence,
+    broken in the pauses, all at one scale: a frame is as wide as its mouth.
+    """
+    timeline = compile_script(parse(f'say "{LIPSYNC_TEXT}"', "<lipsync>"))
+    (said,) = timeline.speech
+    sound = said.utterance
+    renderer = Renderer(Theme.default().layers((1024, 600)))
+    count = int(sound.duration * fps) + 1
+    keys = said.mouth
+    breaks = [round((key.at + after.at) / 2 * fps) for key, after in zip(keys, keys[1:]) if key.shape == REST]
+    lines = list(zip([0] + breaks, breaks + [count]))
+    margin = 24
+    frame_w = (width - 2 * margin) // max(b - a for a, b in lines)
+    frame_h = round(frame_w * (MOUTH_BOX[3] - MOUTH_BOX[1]) / (MOUTH_BOX[2] - MOUTH_BOX[0]))
+    mouths, shapes = [], []
+    for k in range(count):
+        rgb = np.ascontiguousarray(renderer.render(timeline.sample(k / fps))[..., ::-1])
+        mouths.append(Image.fromarray(rgb).crop(MOUTH_BOX).resize((frame_w, frame_h), Image.LANCZOS))
+        shapes.append(shape_at(keys, k / fps)[0])
+    samples = sound.samples.astype(np.float64)
+    samples /= np.abs(samples).max()
+
+    title_h, words_h, wave_h, axis_h, gap, legend_h = 36, 24, 64, 22, 16, 30
+    line_h = words_h + wave_h + 4 + frame_h + axis_h + gap
+    out = Image.new("RGB", (width, title_h + len(lines) * line_h + legend_h), PAPER)
+    draw, big, small = ImageDraw.Draw(out), font(), font(14)
+    title = f'say "{LIPSYNC_TEXT}": voice {sound.voice}, {sound.rate} words a minute, the mouth at {fps} fps'
+    draw.text((margin, 8), title, fill=INK, font=big)
+    for n, (first, end) in enumerate(lines):
+        top = title_h + n * line_h
+        wave_top, mid = top + words_h, top + words_h + wave_h / 2
+        mouths_top = wave_top + wave_h + 4
+
+        def x_at(t: float, first: int = first) -> float:
+            return margin + (t * fps - first) * frame_w
+
+        for k in range(first, end):
+            x = x_at(k / fps)
+            if shapes[k] == REST:  # a frame whose mouth rests: shaded behind the sound
+                draw.rectangle([x, wave_top, x + frame_w - 1, wave_top + wave_h], fill=RESTING)
+        # The waveform: each pixel column from the lowest sample under it to the highest.
+        left, right = int(x_at(first / fps)), int(x_at(end / fps))
+        for x in range(left, right):
+            a, b = (round((first + (x + d - left) / frame_w) / fps * sound.sample_rate) for d in (0, 1))
+            piece = samples[a:b]
+            if piece.size:
+                draw.line(
+                    [(x, mid - piece.max() * wave_h / 2), (x, mid - piece.min() * wave_h / 2)], fill=WAVE
+                )
+        draw.line([(left, mid), (right, mid)], fill=WAVE)
+        for k in range(first, end):
+            x = int(x_at(k / fps))
+            out.paste(mouths[k], (x, mouths_top))
+            if shapes[k] == "closed":
+                draw.rectangle(
+                    [x, mouths_top, x + frame_w - 1, mouths_top + frame_h - 1], outline=CLOSED, width=2
+                )
+        for word in sound.words:
+            if first <= word.at * fps < end:
+                x = x_at(word.at)
+                draw.line([(x, top + 4), (x, mouths_top - 1)], fill=INK)
+                draw.text((x + 4, top + 2), word.text, fill=INK, font=big)
+        axis = mouths_top + frame_h + 2
+        for k in range(first, end + 1):
+            x = x_at(k / fps)
+            if k % (fps // 10) == 0:
+                draw.line([(x, axis), (x, axis + 4)], fill=FAINT)
+            if k % (fps // 5) == 0:
+                draw.text((x - 10, axis + 5), f"{k / fps:.1f} s", fill=INK, font=small)
+
+    # The legend: a swatch, then what it means.
+    x, y = margin, title_h + len(lines) * line_h
+    for swatch, meaning in [
+        ({"fill": RESTING}, "the mouth at rest (the emotion's own): before, after and in pauses"),
+        ({"outline": CLOSED, "width": 2}, "lips closed: p, b, m"),
+    ]:
+        draw.rectangle([x, y + 2, x + 28, y + 18], **swatch)
+        draw.text((x + 36, y + 2), meaning, fill=INK, font=small)
+        x += 36 + draw.textlength(meaning, font=small) + 40
+    return out
+
+
 def frame_shown(path: Path, t: float) -> np.ndarray:
     """The RGB frame a player shows at `t` in an animation Pillow reads (GIF, WebP)."""
     with Image.open(path) as image:
@@ -159,8 +278,20 @@ def main() -> None:
     save_sheet(emotions(), OUT / "emotions.png")
     save_sheet(looking(), OUT / "looking.png")
     hello().save(OUT / "hello.png", optimize=True)
+    save_sheet(speech_mouths(), OUT / "speech-mouths.png")
     crossfade().save(OUT / "crossfade.png", optimize=True)
-    for name in ("emotions.png", "looking.png", "hello.png", "crossfade.png"):
+    try:
+        lipsync().save(OUT / "lipsync.png", optimize=True)
+    except MissingTool as e:  # the one picture that speaks
+        raise SystemExit(f"make_pictures.py: lipsync.png not drawn: {e}") from None
+    for name in (
+        "emotions.png",
+        "looking.png",
+        "hello.png",
+        "speech-mouths.png",
+        "crossfade.png",
+        "lipsync.png",
+    ):
         print(OUT / name)
 
 
