@@ -18,6 +18,8 @@ from typing import Callable, Iterator, List, Optional, Sequence
 
 import numpy as np
 
+from .soundtrack import resample
+
 SPEECH_RATE = 22050  # espeak-ng's: opening the device at it spares a resampling
 INSTALL_HINT = "pip install 'baxterface[speech]'"
 # How far ahead of the script's clock utterances are handed to the mixer, which then starts them to
@@ -109,14 +111,6 @@ class Mixer:
                 self._voices = [v for v in self._voices if v not in finished]
         block = np.clip(mix, -32768, 32767).astype(np.int16)
         out[:] = block.reshape(-1, 1) if out.ndim == 2 else block
-
-
-def resample(samples: np.ndarray, rate: int, wanted: int) -> np.ndarray:
-    """int16 samples from `rate` to `wanted` samples a second (linear: speech needs no better)."""
-    if rate == wanted or not len(samples):
-        return samples
-    times = np.arange(round(len(samples) * wanted / rate)) * (rate / wanted)
-    return np.interp(times, np.arange(len(samples)), samples).astype(np.int16)
 
 
 class DeviceSound(SoundOut):

@@ -10,7 +10,7 @@ from __future__ import annotations
 import os
 import wave
 from pathlib import Path
-from typing import Optional, Sequence, Tuple
+from typing import BinaryIO, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
@@ -28,19 +28,28 @@ def soundtrack(speech: Sequence, duration: float) -> Optional[Audio]:
     rate = speech[0].utterance.sample_rate
     mix = np.zeros(max(1, round(duration * rate)), np.int32)
     for said in speech:
-        samples = at_rate(said.utterance.samples, said.utterance.sample_rate, rate)
+        samples = resample(said.utterance.samples, said.utterance.sample_rate, rate)
         start = round(said.at * rate)
         piece = samples[: max(0, len(mix) - start)]
         mix[start : start + len(piece)] += piece
     return np.clip(mix, -32768, 32767).astype(np.int16), rate
 
 
-def at_rate(samples: np.ndarray, rate: int, wanted: int) -> np.ndarray:
-    """The samples resampled from `rate` to `wanted` (0 or equal: as they are)."""
-    if not wanted or rate == wanted:
+def resample(samples: np.ndarray, rate: int, wanted: int) -> np.ndarray:
+    """int16 samples from `rate` to `wanted` a second (0 or equal: as they are); linear, as speech needs."""
+    if not wanted or rate == wanted or not len(samples):
         return samples
     times = np.arange(round(len(samples) * wanted / rate)) * (rate / wanted)
     return np.interp(times, np.arange(len(samples)), samples).astype(np.int16)
+
+
+def write_wav(out: Union[str, BinaryIO], samples: np.ndarray, rate: int) -> None:
+    """Mono 16-bit samples as a WAV file, to a path or an open binary file (left open)."""
+    with wave.open(out, "wb") as w:
+        w.setnchannels(1)
+        w.setsampwidth(2)
+        w.setframerate(rate)
+        w.writeframes(np.asarray(samples).astype("<i2").tobytes())
 
 
 class WavWriter(FrameSink):
@@ -55,12 +64,7 @@ class WavWriter(FrameSink):
         pass
 
     def close(self) -> None:
-        samples, rate = self.audio
-        with wave.open(self.file, "wb") as out:
-            out.setnchannels(1)
-            out.setsampwidth(2)
-            out.setframerate(rate)
-            out.writeframes(samples.astype("<i2").tobytes())
+        write_wav(self.file, *self.audio)
         self.file.close()
         os.replace(self.tmp, self.path)
 

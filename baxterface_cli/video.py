@@ -16,7 +16,6 @@ import os
 import shutil
 import subprocess
 import tempfile
-import wave
 from fractions import Fraction
 from pathlib import Path
 from typing import Any, Dict, List, NamedTuple, Optional
@@ -26,7 +25,7 @@ import numpy as np
 from . import partial
 from .extras import MissingTool
 from .formats import Export, FormatError, FrameSink
-from .soundtrack import at_rate
+from .soundtrack import resample, write_wav
 
 
 class Codec(NamedTuple):
@@ -109,7 +108,7 @@ class PyAvVideo(FrameSink):
             self.audio = None
             if export.audio is not None and codec.audio:
                 samples, rate = export.audio
-                self.sound = (at_rate(samples, rate, codec.audio_rate), codec.audio_rate or rate)
+                self.sound = (resample(samples, rate, codec.audio_rate), codec.audio_rate or rate)
                 self.audio = self.container.add_stream(codec.audio, rate=self.sound[1])
         except BaseException:
             self.abort()
@@ -219,9 +218,6 @@ class FfmpegVideo(FrameSink):
 def _wav_file(samples: np.ndarray, rate: int) -> str:
     """The samples as a mono 16-bit WAV file of our own, for ffmpeg to read."""
     fd, name = tempfile.mkstemp(suffix=".wav", prefix="baxterface-")
-    with os.fdopen(fd, "wb") as f, wave.open(f, "wb") as w:
-        w.setnchannels(1)
-        w.setsampwidth(2)
-        w.setframerate(rate)
-        w.writeframes(np.asarray(samples, np.int16).tobytes())
+    with os.fdopen(fd, "wb") as f:
+        write_wav(f, samples, rate)
     return name

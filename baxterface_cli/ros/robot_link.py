@@ -13,12 +13,12 @@ import os
 import shutil
 import tempfile
 import time
-import wave
 from collections import deque
 from typing import Any, Callable, Deque, Dict, List, NamedTuple, Optional, Tuple
 
 from ..effects import EffectHandler, Exit, Follow, HeadNod, HeadPan, SetEnabled, Speech
 from ..robot import Robot
+from ..soundtrack import write_wav
 
 HEAD_PAN_TOPIC = "/robot/head/command_head_pan"
 HEAD_NOD_TOPIC = "/robot/head/command_head_nod"
@@ -238,12 +238,3 @@ def open_speaker(mode: str, rospy: Any, warn: Callable[[str], None], name: str =
     if mode not in SPEAKERS:
         raise UnknownAudio(f"{name} must be {AUDIO_CHOICES}, not {mode!r}")
     return SPEAKERS[mode](rospy, warn)
-
-
-def write_wav(path: str, samples: Any, rate: int) -> None:
-    """Mono 16-bit samples as a WAV file."""
-    with wave.open(path, "wb") as out:
-        out.setnchannels(1)
-        out.setsampwidth(2)
-        out.setframerate(rate)
-        out.writeframes(samples.astype("<i2").tobytes())
