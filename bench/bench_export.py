@@ -20,11 +20,12 @@ import json
 import os
 import shutil
 import signal
-import socket
 import subprocess
 import tempfile
 import time
 from pathlib import Path
+
+from ros_master import start_roscore
 
 from baxterface_cli import parse_file
 from baxterface_cli.extras import MissingTool
@@ -60,12 +61,6 @@ def timed(animation: Animation, renderer: Renderer, out: Path):
     return time.perf_counter() - start, out.stat().st_size, frames
 
 
-def free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
 def can_play_bags() -> bool:
     if not (shutil.which("roscore") and shutil.which("rosbag") and os.path.exists(ROS_PYTHON)):
         return False
@@ -74,15 +69,8 @@ def can_play_bags() -> bool:
 
 def play_bag(bag: Path, home: str) -> None:
     """`rosbag play` the bag to a listener; print how far frames arrive from their times."""
-    port = free_port()
-    env = dict(os.environ, ROS_MASTER_URI=f"http://127.0.0.1:{port}", ROS_IP="127.0.0.1", ROS_HOME=home)
-    env.pop("ROS_HOSTNAME", None)
-    core = subprocess.Popen(
-        ["roscore", "-p", str(port)], env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL
-    )
+    core, env = start_roscore(home)
     try:
-        while subprocess.run(["rosnode", "list"], env=env, capture_output=True).returncode != 0:
-            time.sleep(0.2)
         listener = subprocess.Popen(
             [ROS_PYTHON, "-c", LISTENER], env=env, stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True
         )

@@ -21,13 +21,14 @@ from __future__ import annotations
 
 import os
 import signal
-import socket
 import statistics
 import subprocess
 import sys
 import threading
 import time
 from pathlib import Path
+
+from ros_master import start_roscore
 
 from baxterface_cli.tables import LIMITS
 
@@ -42,12 +43,6 @@ pub = rospy.Publisher("/robot/xdisplay", Image, latch=True, queue_size=1)
 rospy.Subscriber("/display_chatter", String, lambda m: pub.publish(frame))
 rospy.spin()
 """
-
-
-def free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
 
 
 class Frames:
@@ -118,19 +113,12 @@ def percentile(values, p):
 
 
 def main() -> None:
-    port = free_port()
-    env = dict(os.environ, ROS_MASTER_URI=f"http://127.0.0.1:{port}", ROS_IP="127.0.0.1")
+    core, env = start_roscore()
     os.environ.update(ROS_MASTER_URI=env["ROS_MASTER_URI"], ROS_IP="127.0.0.1")
-    core = subprocess.Popen(
-        ["roscore", "-p", str(port)], env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL
-    )
-    import rosgraph
     import rospy
     from sensor_msgs.msg import Image
     from std_msgs.msg import String
 
-    while not rosgraph.is_master_online():
-        time.sleep(0.1)
     rospy.init_node("bench_face", anonymous=True, disable_signals=True)
     frames = Frames(rospy, Image)
     try:

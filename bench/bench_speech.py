@@ -27,7 +27,8 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from bench_node import free_port, percentile  # noqa: E402
+from bench_node import percentile  # noqa: E402
+from ros_master import start_roscore  # noqa: E402
 
 WORDS = ("the", "robot", "looked", "up", "and", "smiled", "at", "everyone", "in", "the", "room", "number")
 
@@ -86,18 +87,11 @@ def first_after(times, t):
 
 
 def node_latency() -> None:
-    port = free_port()
-    env = dict(os.environ, ROS_MASTER_URI=f"http://127.0.0.1:{port}", ROS_IP="127.0.0.1")
+    core, env = start_roscore()
     os.environ.update(ROS_MASTER_URI=env["ROS_MASTER_URI"], ROS_IP="127.0.0.1")
-    core = subprocess.Popen(
-        ["roscore", "-p", str(port)], env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL
-    )
-    import rosgraph
     import rospy
     from std_msgs.msg import String
 
-    while not rosgraph.is_master_online():
-        time.sleep(0.1)
     rospy.init_node("bench_speech", anonymous=True, disable_signals=True)
     heard = Heard(rospy)
     node = subprocess.Popen(
