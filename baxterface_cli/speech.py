@@ -13,7 +13,6 @@ import _ctypes
 import bisect
 import ctypes
 import ctypes.util
-import difflib
 import re
 import threading
 import unicodedata
@@ -23,6 +22,7 @@ from typing import Any, Dict, FrozenSet, List, NamedTuple, Optional, Tuple
 
 import numpy as np
 
+from .diagnostics import did_you_mean
 from .extras import MissingTool
 from .voices import DEFAULT_RATE, DEFAULT_VOICE, RATES, known_voice, voice_names
 
@@ -269,8 +269,7 @@ class _Heard(NamedTuple):
 
 def unknown_voice_message(voice: str) -> str:
     """Why `voice` is refused, with the nearest known name when one is close."""
-    close = difflib.get_close_matches(voice.lower(), sorted(VOICES), n=1)
-    hint = f"; did you mean '{close[0]}'?" if close else "; 'baxterface voices' lists them"
+    hint = did_you_mean(voice, VOICES) or "; 'baxterface voices' lists them"
     return f"unknown voice '{voice}'{hint}"
 
 
