@@ -16,7 +16,7 @@ ROS_PACKAGES := ros-core python3-rospy python3-cv-bridge python3-sensor-msgs pyt
 # the `ffmpeg` program is what `render` falls back to without PyAV; espeak-ng speaks `say`;
 # PortAudio is what `play` sounds through; sox reads the sounds in the tests.
 TEST_PACKAGES := $(ROS_PACKAGES) python3-venv xvfb ffmpeg espeak-ng libespeak-ng1 libportaudio2 sox
-EXTRAS := test,video,bag,speech
+EXTRAS := test,video,bag,speech,camera
 PIP_QUIET := --quiet --disable-pip-version-check
 
 .PHONY: play test lint format golden theme pictures bench system venv venv38 venv-ros ros clean
@@ -39,7 +39,9 @@ $(VENV38)/.installed: pyproject.toml
 # The ROS tests' environment: sees Debian's ROS packages, adds only what they lack.
 $(VENV_ROS)/.installed: pyproject.toml | system
 	$(ROS_PYTHON) -m venv --system-site-packages $(VENV_ROS)
-	$(VENV_ROS)/bin/pip install $(PIP_QUIET) -e '.[$(EXTRAS)]'
+	@# Keep Debian's NumPy: its cv_bridge is built against it.
+	$(ROS_PYTHON) -c 'import numpy; print("numpy==" + numpy.__version__)' > $(VENV_ROS)/constraints.txt
+	$(VENV_ROS)/bin/pip install $(PIP_QUIET) -c $(VENV_ROS)/constraints.txt -e '.[$(EXTRAS)]'
 	touch $@
 
 # Debian packages: ROS 1 (roscore, rospy, cv_bridge; see ../shared/spec/baxter-ros.md) and Xvfb.

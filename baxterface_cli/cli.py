@@ -286,14 +286,24 @@ def play(
     theme: Optional[str] = THEME_OPT,
     idle: bool = IDLE_ON_OPT,
     crossfade: Optional[float] = CROSSFADE_OPT,
+    follow_from: Optional[str] = typer.Option(
+        None,
+        "--follow-from",
+        metavar="FILE",
+        help="What following sees, instead of the robot's sensors: a trace (.jsonl: sonar, hands) "
+        "or camera images (a video or a picture).",
+    ),
 ) -> None:
     """Play a script in real time: in a window, or in this terminal.
 
     The status line shows what only the robot could: head pan, enable,
     following. A script that says something speaks through this machine's
-    sound device, in step with the picture. Ctrl-C stops.
+    sound device, in step with the picture. A script that follows someone
+    follows them in FILE with --follow-from. Ctrl-C stops.
     """
+    from .effects import Follow
     from .playback import Player, TerminalScreen, WindowScreen, window_available
+    from .rehearsal import FollowSourceError, Rehearsal, open_source
     from .renderer import Renderer
 
     if watch and (script_path in (None, "-") or inline is not None):
@@ -312,7 +322,8 @@ def play(
     renderer = Renderer(fitted_theme(theme, size))
     try:
         animation = animation_for(script, seed, idle, crossfade)
-    except MissingTool as e:
+        source = open_source(follow_from) if follow_from is not None else None
+    except (MissingTool, FollowSourceError) as e:
         raise fail(f"baxterface play: {e}") from None
     screen = WindowScreen() if window else TerminalScreen()
     held: List[str] = []  # a terminal's face would cover the line; it is said when the face is gone
@@ -328,7 +339,12 @@ def play(
 
         return open_device(warn)
 
-    player = Player(animation, renderer, screen, fps, sound=open_sound)
+    follow = None
+    if source is not None:
+        follow = Rehearsal(source, warn)
+        if not any(isinstance(cue.effect, Follow) for cue in animation.timeline.cues):
+            warn("the script follows nothing, so --follow-from changes nothing")
+    player = Player(animation, renderer, screen, fps, sound=open_sound, follow=follow)
     poll = _watcher(script_path, seed, idle, crossfade, player) if watch else None
     interrupted = False
     try:
@@ -377,7 +393,8 @@ def node(ctx: typer.Context) -> None:
     Takes ROS remappings and private parameters as arguments:
     display_chatter:=/other, _fps:=30, _size:=1920x1200, _theme:=DIR,
     _idle:=false, _selftest:=true, _display_topic:=/robot/head_display,
-    _audio:=soundplay|local|none. Commands (old or new) arrive on
+    _audio:=soundplay|local|none, _camera:=/cameras/head_camera/image,
+    _camera_hfov:=76 (degrees). Commands (old or new) arrive on
     display_chatter and take over at once; scripts sent to ~queue wait for
     what is playing. Frames go to /robot/xdisplay (bgr8), speech to
     sound_play on /robotsound, what the face is doing to ~state (JSON).

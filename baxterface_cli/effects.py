@@ -66,7 +66,7 @@ class SetEnabled(Effect):
 
 @dataclass(frozen=True)
 class Follow(Effect):
-    """Start following `target` ("human", "left arm", "right arm"); None stops.
+    """Start following `target` ("human", "face", "left arm", "right arm"); None stops.
 
     With `dynamic` the head turns too when the target is beyond the eyes' reach.
     """
@@ -136,7 +136,7 @@ class RobotStatus(NamedTuple):
     """What the robot would be doing at a time, beyond the screen."""
 
     enabled: Optional[bool] = None  # None: nothing said so yet
-    following: Optional[str] = None  # "human", "left arm", "right arm" or None
+    following: Optional[str] = None  # "human", "face", "left arm", "right arm" or None
     follow_dynamic: bool = False
     nodding_until: float = float("-inf")
     exited: bool = False

@@ -135,7 +135,7 @@ class Eyelids:
 
 @dataclass(frozen=True)
 class Follow:
-    """Start following `target` ("human", "left arm", "right arm"); None stops."""
+    """Start following `target` ("human", "face", "left arm", "right arm"); None stops."""
 
     target: Optional[str]
     dynamic: bool = False

@@ -676,7 +676,7 @@ class _Builder(Transformer):
 
     def follow_target(self, children: List[Token]) -> Optional[str]:
         kind = children[0].type
-        return {"HUMAN": "human", "OFF": None, "LEFT": "left arm", "RIGHT": "right arm"}[kind]
+        return {"HUMAN": "human", "FACE": "face", "OFF": None, "LEFT": "left arm", "RIGHT": "right arm"}[kind]
 
     def say(self, children: List[Any]) -> n.Say:
         at, string, *options = children

@@ -20,6 +20,7 @@ from PIL import Image
 from .audio import START_AHEAD, SoundOut, SpeechCues
 from .effects import quoted
 from .idle import Animation
+from .rehearsal import Rehearsal
 from .renderer import Renderer
 from .timeline import RobotStatus
 
@@ -172,6 +173,7 @@ class Player:
         sleep: Callable[[float], None] = time.sleep,
         on_time: Optional[Callable[[float], None]] = None,
         sound: Optional[Callable[[], SoundOut]] = None,
+        follow: Optional[Rehearsal] = None,
     ) -> None:
         self.animation = animation
         self.renderer = renderer
@@ -187,6 +189,7 @@ class Player:
         self.open_sound = sound  # called once, when the first script that speaks starts
         self.sound: Optional[SoundOut] = None
         self.cues: Optional[SpeechCues] = None
+        self.follow = follow  # following against a recorded source (`play --follow-from`)
 
     def run(
         self, loop: bool = False, hold: bool = False, poll: Optional[Callable[[], Optional[Animation]]] = None
@@ -258,8 +261,11 @@ class Player:
         if self.on_time is not None:
             self.on_time(t)
         state = self.animation.sample(t)
-        status = status_line(
-            t, self.animation.duration, self.animation.timeline.status(t), state.head_pan, self.note
-        )
+        robot = self.animation.timeline.status(t)
+        note = self.note
+        if self.follow is not None:
+            state = self.follow.look(state, t, robot)
+            note = "  ".join(filter(None, (self.follow.note(), note)))
+        status = status_line(t, self.animation.duration, robot, state.head_pan, note)
         self.screen.show(self.renderer.render(state), status)
         self.frames_shown += 1

@@ -7,8 +7,9 @@
 - a head pan is asked again every tick until the head is within 8 degrees of
   it, for up to 10 s past its move, as baxter_interface does;
 - enable and disable are asked every 0.1 s until the robot agrees, up to 5 s;
-- while following, the eyes go to the person or hand (`Gaze`), turning the
-  head by the one dynamic-look rule.
+- while following, the eyes go to the person, face or hand (`Gaze`), turning
+  the head by the one dynamic-look rule; the camera's images go through a
+  `CameraWatch` only while a face is followed.
 
 What to send goes out through `send(effect)` (HeadPan, HeadNod, SetEnabled),
 speech through `speak(effect)` (to a sound device or sound_play), problems
@@ -20,8 +21,9 @@ from __future__ import annotations
 
 import math
 from collections import deque
-from typing import Callable, Deque, Dict, Optional, Sequence, Tuple
+from typing import Any, Callable, Deque, Dict, Optional, Sequence, Tuple
 
+from .camera import CameraWatch
 from .effects import Effect, EffectHandler, Exit, Follow, HeadNod, HeadPan, SetEnabled, Speech
 from .following import ArmFollower, HumanFollower
 from .geometry import clamp_to_ellipse, dynamic_look, to_pixels, to_radians
@@ -42,23 +44,45 @@ Point = Tuple[float, float]
 class Gaze:
     """Where the eyes look while following: smoothed, and handed back smoothly.
 
-    Sonar readings and hand positions are handed in as they arrive (from any
-    thread: only appends and assignments); `aim` runs the filters once a frame.
+    Sonar readings, hand positions and the face the camera sees (`face`, an
+    eye target from a `faces.FaceFollower`, or None) are handed in as they
+    arrive (from any thread: only appends and assignments); `aim` runs the
+    filters once a frame. With nothing to look at, the eyes go where the
+    script has them.
     """
 
     def __init__(self) -> None:
-        self.target: Optional[str] = None  # "human", "left arm", "right arm" or None
+        self.target: Optional[str] = None  # "human", "face", "left arm", "right arm" or None
         self.dynamic = False
         self.human = HumanFollower()
         self.arm = ArmFollower()
         self.sonar: Deque[Tuple[list, list]] = deque(maxlen=SONAR_BACKLOG)
         self.hands: Dict[str, Optional[Tuple[float, float, float]]] = {"left": None, "right": None}
+        self.face: Optional[Point] = None  # where the camera sees the face, as an eye target
+        # The head angle the sonar and camera look from: None, where the head is (they turn
+        # with it); a number for readings recorded with the head held there (`play --follow-from`).
+        self.sensors_at: Optional[float] = None
         self.eye: Optional[Point] = None  # where following has the eyes
         self.release: Optional[Tuple[float, Point]] = None  # (since, from) while handing back
 
     @property
     def wants_sonar(self) -> bool:
         return self.target == "human"
+
+    @property
+    def wants_camera(self) -> bool:
+        return self.target == "face"
+
+    @property
+    def seen(self) -> Optional[bool]:
+        """Whether what is followed is seen now (None when following nothing)."""
+        if self.target is None:
+            return None
+        if self.target == "human":
+            return self.human.eye_x is not None
+        if self.target == "face":
+            return self.face is not None
+        return self.hands[self.target.split()[0]] is not None
 
     def follow(self, target: Optional[str], dynamic: bool, now: float) -> None:
         if (target, dynamic) == (self.target, self.dynamic):
@@ -68,6 +92,8 @@ class Gaze:
         if target == "human":
             self.human = HumanFollower()
             self.sonar.clear()  # readings from before following began are stale
+        if target == "face":
+            self.face = None  # nor is a face seen before
         self.target, self.dynamic, self.eye = target, dynamic, None
 
     def aim(
@@ -78,11 +104,12 @@ class Gaze:
             return self._handing_back(state, now), None
         goal, pan = self._goal(head, can_pan)
         here = self.eye or (state.eye_x, state.eye_y)
-        if goal is not None:
-            here = (
-                here[0] + (goal[0] - here[0]) * FOLLOW_SMOOTHING,
-                here[1] + (goal[1] - here[1]) * FOLLOW_SMOOTHING,
-            )
+        if goal is None:  # nothing to look at (yet, or any more): the script's eyes
+            goal = (state.eye_x, state.eye_y)
+        here = (
+            here[0] + (goal[0] - here[0]) * FOLLOW_SMOOTHING,
+            here[1] + (goal[1] - here[1]) * FOLLOW_SMOOTHING,
+        )
         self.eye = here
         return state.replace(eye_x=here[0], eye_y=here[1]), pan
 
@@ -96,6 +123,9 @@ class Gaze:
             return state
         return state.replace(eye_x=x + (state.eye_x - x) * u, eye_y=y + (state.eye_y - y) * u)
 
+    def _facing(self, head: float) -> float:
+        return head if self.sensors_at is None else self.sensors_at
+
     def _goal(self, head: float, can_pan: bool) -> Tuple[Optional[Point], Optional[float]]:
         """Where the eyes should go, and where the head should pan if it must."""
         if self.target == "human":
@@ -105,7 +135,12 @@ class Gaze:
                 eye_x = seen if seen is not None else eye_x
             if eye_x is None:
                 return self.eye, None
-            want, eye_y = head + to_radians(eye_x), 0.0  # the sonar turns with the head
+            want, eye_y = self._facing(head) + to_radians(eye_x), 0.0  # the sonar turns with the head
+        elif self.target == "face":
+            if self.face is None:
+                return None, None
+            eye_x, eye_y = self.face
+            want = self._facing(head) + to_radians(eye_x)  # so does the camera
         else:
             hand = self.hands[str(self.target).split()[0]]
             if hand is None:
@@ -127,7 +162,10 @@ class Robot(EffectHandler):
         warn: Callable[[str], None] = lambda text: None,
         info: Callable[[str], None] = lambda text: None,
         speak: Callable[[Speech], None] = lambda effect: None,
+        camera: Optional[Callable[..., CameraWatch]] = None,
     ) -> None:
+        """`camera(hand_to)` makes the CameraWatch that finds faces (by default, one that
+        looks at each image as it is given)."""
         self.send = send
         self.speak = speak
         self.warn = warn
@@ -137,6 +175,8 @@ class Robot(EffectHandler):
         self.head_goal: Optional[Tuple[HeadPan, float]] = None  # the pan asked for, until when
         self.enable_goal: Optional[Tuple[bool, float, float]] = None  # value, next ask, deadline
         self.gaze = Gaze()
+        make_camera = camera or (lambda hand_to: CameraWatch(hand_to, threaded=False, warn=warn))
+        self.camera = make_camera(self._saw_face)
 
     # -- what the robot reports
 
@@ -163,6 +203,14 @@ class Robot(EffectHandler):
             self.gaze.sonar.append((ids, distances))
         return None
 
+    def heard_image(self, image: Any, now: float) -> None:
+        """A camera image (whatever the CameraWatch decodes), looked at only while following a face."""
+        if self.gaze.wants_camera:
+            self.camera.give(image, now)
+
+    def _saw_face(self, target: Optional[Tuple[float, float]]) -> None:
+        self.gaze.face = target
+
     # -- effects, as they fall due
 
     def take(self, effect: Effect, now: float) -> None:
@@ -186,6 +234,13 @@ class Robot(EffectHandler):
         self._ask_enable(now)
 
     def follow(self, effect: Follow, now: float) -> None:
+        if effect.target == "face":
+            problem = self.camera.start()
+            if problem:
+                self.warn(f"not following a face: {problem}")
+                effect = Follow(None)
+        else:
+            self.camera.stop()
         self.gaze.follow(effect.target, effect.dynamic, now)
         self.info(f"following: {effect.target or 'nothing'}" + (" (dynamic)" if effect.dynamic else ""))
 

@@ -27,12 +27,21 @@ BARE_WORDS: Dict[str, Callable[..., Any]] = {
     "right_arm_follow_on": partial(n.Follow, "right arm"),
     "dynamic_left_arm_follow_on": partial(n.Follow, "left arm", True),
     "dynamic_right_arm_follow_on": partial(n.Follow, "right arm", True),
+    "face_follow_on": partial(n.Follow, "face"),
+    "dynamic_face_follow_on": partial(n.Follow, "face", True),
     "human_follow_off": partial(n.Follow, None),
+    "face_follow_off": partial(n.Follow, None),
     "arm_follow_off": partial(n.Follow, None),
 }
 
-# The bare words that were commands of the old node (blink and nod are new).
-LEGACY_WORDS = frozenset(BARE_WORDS) - {"blink", "nod"}
+# The bare words that were commands of the old node (blink, nod and following a face are new).
+LEGACY_WORDS = frozenset(BARE_WORDS) - {
+    "blink",
+    "nod",
+    "face_follow_on",
+    "dynamic_face_follow_on",
+    "face_follow_off",
+}
 
 # Legacy commands with numbers: how many numbers each takes, and its usage.
 LEGACY_USAGE: Dict[str, Tuple[Tuple[int, ...], str]] = {

@@ -1,4 +1,6 @@
-"""Following a person with the head sonar: baxterface's follower against the original's.
+"""Following, against the baselines, in one run: the head sonar (baxterface's
+follower against the original's), then the head camera (bench/follow_camera.py:
+baxterface's FaceFollower against a plain Haar detector on every full frame).
 
     python bench/bench_follow.py
 
@@ -26,6 +28,7 @@ import sys
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
+sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from baxterface_cli.following import HumanFollower  # noqa: E402
 from traces import OriginalFollower, faulty_trace, faulty_traces, lag, rms_error, run, spread, still  # noqa: E402
@@ -81,6 +84,13 @@ def still_sweep():
 
 def main() -> None:
     sonar_report()
+    print()
+    try:
+        from follow_camera import report as camera_report
+    except ImportError as e:  # OpenCV or scikit-image missing: the sonar half still stands
+        print(f"camera: not run ({e}); pip install '.[camera,test]'")
+        return
+    camera_report()
 
 
 if __name__ == "__main__":

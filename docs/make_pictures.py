@@ -273,6 +273,94 @@ def crossfade() -> Image.Image:
     return sheet(crops, columns=4)
 
 
+def sonar_walk(seconds: float = 12.0, width: int = 1000, height: int = 360) -> Image.Image:
+    """A person walking back and forth past the sonar, and where each follower puts the eyes."""
+    import sys
+
+    sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
+    from baxterface_cli.following import HumanFollower
+    from traces import back_and_forth, faulty_trace, run
+
+    readings = faulty_trace(back_and_forth(1.0), seconds, seed=1, second_object=True)
+    lines = [
+        ("person", [(t, truth) for t, _, truth in run(HumanFollower(), readings)], (150, 150, 150), 7),
+        ("original", [(t, s) for t, s, _ in run(HumanFollower.original(), readings)], (214, 96, 77), 3),
+        ("baxterface", [(t, s) for t, s, _ in run(HumanFollower(), readings)], (46, 110, 190), 3),
+    ]
+    image = Image.new("RGB", (width, height), PAPER)
+    draw = ImageDraw.Draw(image)
+    left, top, right, bottom = 70, 20, width - 20, height - 50
+
+    def at(t: float, x: float) -> Tuple[float, float]:
+        return left + (right - left) * t / seconds, top + (bottom - top) * (80 - x) / 160
+
+    for x in (-80, -40, 0, 40, 80):
+        draw.line([at(0, x), at(seconds, x)], fill=(225, 225, 225))
+        draw.text((left - 10, at(0, x)[1]), f"{x:+d}" if x else "0", fill=INK, font=font(14), anchor="rm")
+    for t in range(int(seconds) + 1):
+        draw.text((at(t, -80)[0], bottom + 8), f"{t} s", fill=INK, font=font(14), anchor="mt")
+    for _, points, colour, thickness in lines:
+        shown = [at(t, x) for t, x in points if x is not None]
+        draw.line(shown, fill=colour, width=thickness, joint="curve")
+    x = left
+    for name, _, colour, _ in lines:
+        draw.line([(x, height - 14), (x + 30, height - 14)], fill=colour, width=5)
+        draw.text((x + 38, height - 14), name, fill=INK, font=font(15), anchor="lm")
+        x += 60 + draw.textlength(name, font=font(15))
+    draw.text((right, height - 14), "eye x (pixels) over time", fill=INK, font=font(15), anchor="rm")
+    return image
+
+
+def face_following(times=(1.5, 3.2, 5.0, 6.6)) -> Image.Image:
+    """Camera frames of a synthetic scene (tests/face_streams.py), where the follower looks in
+    each (the cross), and the face `play --follow-from` draws for it."""
+    import math
+    import sys
+
+    sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
+    from face_streams import combined
+
+    from baxterface_cli.faces import BAXTER_HEAD_CAMERA_HFOV
+    from baxterface_cli.following import DEGREES_PER_RADIAN, PIXELS_PER_ELEVATION
+    from baxterface_cli.rehearsal import Rehearsal
+
+    stream = combined()
+
+    class Frames:  # a --follow-from source made of the stream's frames
+        has = frozenset({"image"})
+
+        def rewind(self):
+            return ((frame.t, "image", frame.image) for frame in stream.frames())
+
+    images = {round(frame.t * 30): frame.image for frame in stream.frames()}
+    timeline = compile_script(parse(f"follow face; wait {stream.seconds}s"))
+    rehearsal = Rehearsal(Frames())
+    renderer = Renderer(Theme.default().layers((1024, 600)))
+    shown = (round(THUMB[1] * 640 / 400), THUMB[1])  # the camera's shape, as tall as a face
+    focal = 320 / math.tan(math.radians(BAXTER_HEAD_CAMERA_HFOV) / 2)
+    pairs = []
+    for k in range(int(max(times) * 30) + 1):
+        t = k / 30
+        state = rehearsal.look(timeline.sample(t), t, timeline.status(t))
+        if any(abs(t - wanted) < 1e-6 for wanted in times):
+            camera = Image.fromarray(np.ascontiguousarray(images[k][..., ::-1])).resize(shown, Image.BOX)
+            target = rehearsal.robot.gaze.face
+            if target is not None:  # where the follower looks, back in the picture
+                u = 320 - focal * math.tan(target[0] / DEGREES_PER_RADIAN)
+                v = 200 + focal * math.tan(target[1] / PIXELS_PER_ELEVATION)
+                x, y = u * shown[0] / 640, v * shown[1] / 400
+                draw = ImageDraw.Draw(camera)
+                for dx, dy in ((1, 0), (0, 1)):
+                    draw.line(
+                        [(x - 9 * dx, y - 9 * dy), (x + 9 * dx, y + 9 * dy)], fill=(255, 40, 40), width=3
+                    )
+            face = Image.fromarray(np.ascontiguousarray(renderer.render(state)[..., ::-1]))
+            framed = Image.new("RGB", THUMB, PAPER)
+            framed.paste(camera, ((THUMB[0] - shown[0]) // 2, 0))
+            pairs += [(f"camera, {t:.1f} s", framed), ("the face", face.resize(THUMB, Image.LANCZOS))]
+    return sheet(pairs, columns=2)
+
+
 def main() -> None:
     OUT.mkdir(exist_ok=True)
     save_sheet(emotions(), OUT / "emotions.png")
@@ -280,6 +368,8 @@ def main() -> None:
     hello().save(OUT / "hello.png", optimize=True)
     save_sheet(speech_mouths(), OUT / "speech-mouths.png")
     crossfade().save(OUT / "crossfade.png", optimize=True)
+    sonar_walk().save(OUT / "sonar-walk.png", optimize=True)
+    save_sheet(face_following(), OUT / "face-following.png")
     try:
         lipsync().save(OUT / "lipsync.png", optimize=True)
     except MissingTool as e:  # the one picture that speaks
@@ -290,6 +380,8 @@ def main() -> None:
         "hello.png",
         "speech-mouths.png",
         "crossfade.png",
+        "sonar-walk.png",
+        "face-following.png",
         "lipsync.png",
     ):
         print(OUT / name)

@@ -231,7 +231,7 @@ def test_keyword_list_matches_the_grammar():
         value = getattr(terminal.pattern, "value", "")
         if re.fullmatch(r"[a-z]+", value):
             statement_starters.add(value)
-    contextual = {"in", "up", "arm", "human", "off", "left", "right", "voice", "rate"}
+    contextual = {"in", "up", "arm", "human", "face", "off", "left", "right", "voice", "rate"}
     assert statement_starters - contextual == set(KEYWORDS)
 
 
@@ -388,3 +388,10 @@ def test_errors_are_kept_before_warnings():
     assert (len(e.diagnostics), e.more_errors, e.more_warnings) == (50, 0, 51)
     script = parse("look 500 0 in 0s\n" * 60)
     assert (len(script.warnings), script.more_warnings) == (50, 10)
+
+
+def test_follow_face_is_a_statement_and_face_stays_a_name_elsewhere():
+    assert parse("follow face").body == (n.Follow("face"),)
+    assert parse("follow face dynamic; face_follow_off").body == (n.Follow("face", True), n.Follow(None))
+    assert parse("dynamic_face_follow_on").body == (n.Follow("face", True),)
+    assert parse("define face { blink }; face").body == (n.Define("face", (n.Blink(),)), n.Call("face"))

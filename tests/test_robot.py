@@ -134,3 +134,91 @@ def test_following_dynamically_while_disabled_moves_only_the_eyes():
         face = robot.look(FaceState(), 0.03 * k)
     assert wire.sent == []
     assert face.eye_x == pytest.approx(math.degrees(math.atan2(0.6, 0.2)), abs=1)  # 71.6: where it is
+
+
+class FakeCamera:
+    """A CameraWatch stand-in: each image given is already the eye target it shows (or None)."""
+
+    def __init__(self, hand_to, problem=None) -> None:
+        self.hand_to, self.problem, self.started, self.stopped = hand_to, problem, 0, 0
+
+    def start(self):
+        self.started += 1
+        return self.problem
+
+    def stop(self) -> None:
+        self.stopped += 1
+
+    def give(self, image, at) -> None:
+        self.hand_to(image)
+
+
+def test_following_a_face_looks_where_the_camera_sees_it_and_back_at_the_script_when_it_goes():
+    robot = Robot(lambda effect: None, camera=FakeCamera)
+    robot.heard_image((30.0, -20.0), 0.0)  # not following a face: ignored
+    assert robot.gaze.face is None and robot.gaze.seen is None
+    robot.take(fx.Follow("face"), 0.0)
+    assert robot.camera.started == 1
+    robot.heard_image((30.0, -20.0), 0.0)  # up and to the robot's left
+    for k in range(40):
+        face = robot.look(FaceState(eye_x=-50.0), k / 30)
+    assert (face.eye_x, face.eye_y) == pytest.approx((30.0, -20.0), abs=0.1) and robot.gaze.seen is True
+    robot.heard_image(None, 1.4)  # let go: back to where the script has the eyes
+    for k in range(40):
+        face = robot.look(FaceState(eye_x=-50.0), 1.4 + k / 30)
+    assert (face.eye_x, face.eye_y) == pytest.approx((-50.0, 0.0), abs=0.1) and robot.gaze.seen is False
+    robot.take(fx.Follow("human"), 3.0)
+    assert robot.camera.stopped == 1 and not robot.gaze.wants_camera
+
+
+def test_following_a_face_dynamically_turns_the_head_from_where_the_camera_points():
+    wire = Wire()
+    robot = Robot(wire.sent.append, camera=FakeCamera)
+    robot.heard_head(0.2)
+    robot.take(fx.Follow("face", dynamic=True), 0.0)
+    robot.heard_image((20.0, 0.0), 0.0)  # 20 eye pixels left of where the head (and camera) points
+    robot.look(FaceState(), 0.0)
+    (pan,) = [e for e in wire.sent if isinstance(e, fx.HeadPan)]
+    assert pan.target == pytest.approx(0.2 + 20.0 * 3 / 160)
+
+
+def test_a_face_cannot_be_followed_without_opencv_and_the_robot_says_so():
+    wire = Wire()
+    robot = Robot(
+        wire.sent.append,
+        warn=wire.warnings.append,
+        camera=lambda hand_to: FakeCamera(
+            hand_to, "following a face needs the 'cv2' module: pip install ..."
+        ),
+    )
+    robot.take(fx.Follow("face"), 0.0)
+    assert wire.warnings == ["not following a face: following a face needs the 'cv2' module: pip install ..."]
+    assert robot.gaze.target is None
+
+
+def test_the_camera_watch_finds_the_face_on_its_thread_and_survives_bad_images():
+    cv2 = pytest.importorskip("cv2")
+    import threading
+
+    from baxterface_cli.camera import CameraWatch
+    from conftest import ROOT
+
+    picture = cv2.imread(str(ROOT / "scripts_examples" / "someone.jpg"))
+    seen, warnings, arrived, warned = [], [], threading.Event(), threading.Event()
+
+    def hand_to(target):
+        seen.append(target)
+        if target is not None:
+            arrived.set()
+
+    watch = CameraWatch(hand_to, warn=lambda text: (warnings.append(text), warned.set()))
+    assert watch.start() is None and seen == [None]
+    watch.give("not an image", 0.0)
+    assert warned.wait(10)
+    for k in range(200):  # the newest image is what counts; the worker may skip some
+        watch.give(picture, k / 30)
+        if arrived.wait(0.02):
+            break
+    watch.close()
+    assert arrived.is_set() and seen[-1][0] == pytest.approx(25.6, abs=2.0)
+    assert len(warnings) == 1 and warnings[0].startswith("skipped a camera image: ")

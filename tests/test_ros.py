@@ -568,6 +568,106 @@ def test_hand_poses_move_the_eyes_at_the_frame_rate(ros, node):
     hand.unregister()
 
 
+def camera_image(centre, encoding="bgr8", face=True):
+    """A 640x400 head camera image: grey, with the astronaut's head (a real photo) centred at `centre`."""
+    import numpy as np
+    from sensor_msgs.msg import Image
+    from skimage.data import astronaut
+
+    canvas = np.full((400, 640, 3), 128, np.uint8)
+    if face:
+        head = astronaut()[30:200, 140:310, ::-1]  # her head, with some margin, as BGR
+        top, left = centre[1] - head.shape[0] // 2, centre[0] - head.shape[1] // 2
+        canvas[top : top + head.shape[0], left : left + head.shape[1]] = head
+    if encoding == "rgb8":
+        canvas = canvas[..., ::-1]
+    elif encoding == "mono8":
+        canvas = canvas.mean(axis=2).astype(np.uint8)
+    pixels = np.ascontiguousarray(canvas)
+    step = pixels.strides[0]
+    return Image(height=400, width=640, encoding=encoding, step=step, data=pixels.tobytes())
+
+
+def show_camera_until(camera, state, image, test, timeout=15.0):
+    """Publish `image` at 30 Hz until ~state passes `test`; that report."""
+    deadline = time.monotonic() + timeout
+    while True:
+        camera.publish(image)
+        latest = json.loads(state.messages[-1][1].data)
+        if test(latest):
+            return latest
+        assert time.monotonic() < deadline, latest
+        time.sleep(1 / 30)
+
+
+def camera_subscribers(ros, topic="/cameras/head_camera/image"):
+    import rosgraph
+
+    _, subscribers, _ = rosgraph.Master("/pytest").getSystemState()
+    return [nodes for name, nodes in subscribers if name == topic]
+
+
+def test_a_face_in_the_head_camera_draws_the_eyes_to_it_in_every_encoding(ros, node):
+    import rospy
+    from sensor_msgs.msg import Image
+
+    proc, state = node
+    camera = rospy.Publisher("/cameras/head_camera/image", Image, queue_size=1)
+    assert camera_subscribers(ros) in ([], [[]])  # not followed: the node does not take the images
+    rostopic_pub(ros, "follow face")
+    report(state, test=lambda r: r["following"] == "face")
+    # Up and to the image's left, which is the robot's left: eyes right (+x) and up (-y).
+    for encoding, centre, test in [
+        ("bgr8", (160, 120), lambda r: r["eye_x"] > 12 and r["eye_y"] < -8),
+        ("rgb8", (480, 280), lambda r: r["eye_x"] < -12 and r["eye_y"] > 8),
+        ("mono8", (160, 280), lambda r: r["eye_x"] > 12 and r["eye_y"] > 8),
+    ]:
+        seen = show_camera_until(camera, state, camera_image(centre, encoding), test)
+        assert seen["follow_seen"] is True, (encoding, seen)
+    odd = camera_image((320, 200))
+    odd.encoding = "32FC1"
+    for _ in range(5):
+        camera.publish(odd)  # logged and skipped
+    # The face leaves: the eyes let go, and go back where the script has them (the centre).
+    show_camera_until(
+        camera,
+        state,
+        camera_image(None, face=False),
+        lambda r: r["follow_seen"] is False and abs(r["eye_x"]) < 1,
+    )
+    assert proc.poll() is None
+    rostopic_pub(ros, "follow off")
+    report(state, test=lambda r: r["following"] is None)
+    deadline = time.monotonic() + 10
+    while camera_subscribers(ros) not in ([], [[]]):  # it lets go of the camera too
+        assert time.monotonic() < deadline, camera_subscribers(ros)
+        time.sleep(0.1)
+    camera.unregister()
+
+
+def test_following_a_face_dynamically_turns_the_head_toward_it(ros, node):
+    import rospy
+    from sensor_msgs.msg import Image
+
+    from baxterface_cli.ros.messages import message_class
+
+    proc, state = node
+    pan = Topic("/robot/head/command_head_pan", message_class("HeadPanCommand"))
+    camera = rospy.Publisher("/cameras/head_camera/image", Image, queue_size=1)
+    rostopic_pub(ros, "dynamic_face_follow_on")
+    report(state, test=lambda r: r["following"] == "face" and r["follow_dynamic"])
+    far_left = camera_image((90, 200))  # about 30 degrees to the robot's left: beyond the eyes' reach
+    deadline = time.monotonic() + 15
+    while not pan.messages:
+        camera.publish(far_left)
+        assert time.monotonic() < deadline, "no head pan"
+        time.sleep(1 / 30)
+    assert 0.4 < pan.messages[0][1].target < 0.8
+    rostopic_pub(ros, "follow off")
+    pan.close()
+    camera.unregister()
+
+
 def test_a_button_press_sends_exactly_one_command(ros):
     import rospy
     from std_msgs.msg import String

@@ -230,3 +230,25 @@ def faulty_traces() -> Dict[str, List[Reading]]:
                     still(at), 30.0, seed, second_object
                 )
     return out
+
+
+def walk_past(seconds: float = 8.0, seed: int = 1) -> List[Reading]:
+    """scripts_examples/walk-past.jsonl: a person walking past from the robot's right to its
+    left at 0.75 spacings a second, with real sonar's faults and a further object."""
+    return faulty_trace(walk(0.75), seconds, seed, second_object=True)
+
+
+def as_jsonl(readings: List[Reading]) -> str:
+    """A trace as `play --follow-from` reads it: one sonar reading a line."""
+    import json
+
+    return "".join(
+        json.dumps({"t": round(r.t, 3), "sonar": [r.ids, [round(d, 3) for d in r.distances]]}) + "\n"
+        for r in readings
+    )
+
+
+if __name__ == "__main__":  # python tests/traces.py > scripts_examples/walk-past.jsonl
+    import sys
+
+    sys.stdout.write(as_jsonl(walk_past()))

@@ -6,7 +6,9 @@ bgr8 through one latched publisher, drives the head, nod and enable
 topics through the core `Robot` (robot_link), speaks through the `_audio`
 mode's speaker, and reports what the face is doing on `~state` (JSON,
 latched). All work happens in one loop; subscriber callbacks only hand
-messages over.
+messages over. The head camera (`_camera:=TOPIC`) is subscribed to only
+while a face is followed, and its images are looked at on the camera
+watch's own thread, never on the loop.
 """
 
 from __future__ import annotations
@@ -21,6 +23,7 @@ import time
 from typing import Any, List, Optional, Tuple
 
 from ..backlog import Backlog
+from ..camera import CameraWatch
 from ..effects import Speech
 from ..intake import Intake
 from ..live import LiveFace, sleep_face
@@ -45,6 +48,10 @@ SWITCH_INTERVAL = 0.001
 # left for this many of theirs rather than 10.
 FULL_COLLECTION_EVERY = 1000
 MASTER_CHECK = 1.0  # seconds between checks that the master still knows this node
+CAMERA_TOPIC = "/cameras/head_camera/image"
+CAMERA_HFOV = 76.0  # degrees: faces.BAXTER_HEAD_CAMERA_HFOV, without loading OpenCV's module
+CAMERA_ENCODINGS = ("bgr8", "rgb8", "mono8")
+IMAGE_BUFFER = 1 << 24  # bytes: room for a whole 1280x800 image, so only the newest is kept
 
 
 def selftest_script() -> str:
@@ -85,7 +92,19 @@ class FaceNode:
         self.log = Backlog(lambda level, text: levels[level](text))  # never logs from the loop
         self.speaker = open_speaker(str(rospy.get_param("~audio", DEFAULT_AUDIO)), rospy, self.log.warn)
         self.saying: Optional[Tuple[str, float]] = None  # (text, when it ends) while the face speaks
-        self.robot = connect_robot(rospy, warn=self.log.warn, info=self.log.info, speak=self._speak)
+        self.camera_topic = str(rospy.get_param("~camera", CAMERA_TOPIC))
+        hfov = float(rospy.get_param("~camera_hfov", CAMERA_HFOV))
+        if not 1.0 <= hfov <= 179.0:
+            raise ValueError(f"~camera_hfov must be from 1 to 179 degrees, not {hfov:g}")
+        self.camera_sub: Any = None
+
+        def camera(hand_to):
+            warn = lambda text: rospy.logwarn_throttle(WARN_EVERY, text)  # noqa: E731
+            return CameraWatch(hand_to, hfov_deg=hfov, decode=self._decode_image, warn=warn)
+
+        self.robot = connect_robot(
+            rospy, warn=self.log.warn, info=self.log.info, speak=self._speak, camera=camera
+        )
 
         self.wake = threading.Event()
         self.stop = threading.Event()
@@ -137,6 +156,25 @@ class FaceNode:
         else:
             self.rospy.logwarn_throttle(WARN_EVERY, f"skipped a {side} hand pose that is not finite")
 
+    def _image(self, msg: Any) -> None:
+        self.robot.heard_image(msg, time.monotonic())  # decoded and looked at on the camera's thread
+
+    def _decode_image(self, msg: Any) -> Any:
+        if msg.encoding not in CAMERA_ENCODINGS:
+            raise ValueError(f"its encoding is {msg.encoding!r}; the face follower takes bgr8, rgb8 or mono8")
+        return self.bridge.imgmsg_to_cv2(msg, desired_encoding="bgr8")
+
+    def _watch_camera(self) -> None:
+        """Subscribe to the camera while a face is followed, and only then: images are heavy."""
+        wanted = self.robot.gaze.wants_camera
+        if wanted and self.camera_sub is None:
+            self.camera_sub = self.rospy.Subscriber(
+                self.camera_topic, self.Image, self._image, queue_size=1, buff_size=IMAGE_BUFFER
+            )
+        elif not wanted and self.camera_sub is not None:
+            self.camera_sub.unregister()
+            self.camera_sub = None
+
     def _speak(self, effect: Speech) -> None:
         # Timed here, not by the script's status: a take-over restarts the script's clock.
         self.saying = (effect.utterance.text, time.monotonic() + effect.duration)
@@ -149,6 +187,7 @@ class FaceNode:
             return self._run()
         finally:
             self.speaker.close()
+            self.robot.camera.close()
 
     def _run(self) -> int:
         sys.setswitchinterval(SWITCH_INTERVAL)
@@ -167,6 +206,7 @@ class FaceNode:
             took = self._take_commands(now)
             for cue in self.live.due(now):
                 self.robot.take(cue.effect, now)
+            self._watch_camera()
             state = self.robot.look(self.live.state(now), now)
             self.robot.tick(now)
             if self.live.exited:
@@ -232,7 +272,6 @@ class FaceNode:
     def _publish_state(self, state: FaceState, now: float, force: bool = False) -> None:
         if now - self.last_state_at < STATE_EVERY and not force:
             return
-        robot = self.live.robot
         measured = self.robot.head
         report = {
             "emotion": state.emotion,
@@ -244,8 +283,9 @@ class FaceNode:
             "eyelids": round(state.eyelids, 3),
             "head_pan": round(measured if measured is not None else state.head_pan, 4),
             "enabled": self.robot.enabled,
-            "following": robot.following,
-            "follow_dynamic": robot.follow_dynamic,
+            "following": self.robot.gaze.target,  # not the script's wish: what the robot can follow
+            "follow_dynamic": self.robot.gaze.dynamic,
+            "follow_seen": self.robot.gaze.seen,
             "playing": not self.live.finished(now),
             "queued": len(self.live.queue),
             "saying": self.saying[0] if self.saying and now < self.saying[1] else None,

@@ -95,11 +95,12 @@ def connect_robot(
     warn: Optional[Callable[[str], None]] = None,
     info: Optional[Callable[[str], None]] = None,
     speak: Callable[[Speech], None] = lambda effect: None,
+    camera: Optional[Callable[..., Any]] = None,
 ) -> Robot:
     """A core `Robot` whose commands go out on the robot's topics and who hears its state.
 
     It logs with `warn` and `info` (rospy's own by default); its speech goes
-    to `speak` (an `open_speaker(...).speak`).
+    to `speak` (an `open_speaker(...).speak`); `camera` makes its CameraWatch.
     """
     from .messages import message_class
 
@@ -110,7 +111,7 @@ def connect_robot(
         for command in ros_commands(effect):
             publishers[command.topic].publish(classes[command.topic](**command.fields))
 
-    robot = Robot(send, warn=warn or rospy.logwarn, info=info or rospy.loginfo, speak=speak)
+    robot = Robot(send, warn=warn or rospy.logwarn, info=info or rospy.loginfo, speak=speak, camera=camera)
 
     def head_state(msg: Any) -> None:
         if not robot.heard_head(msg.pan):
