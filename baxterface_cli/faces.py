@@ -18,10 +18,10 @@ centre gives (0, 0).
 The pipeline, and why each step is there:
 
 1. Search the whole image, shrunk, with the frontalface_alt2 cascade (its
-   20x20 window finds the smallest faces). A full search costs several
-   tracking steps, so it runs every 0.1 s while no face is followed, every
-   0.3 s while one is; then only faces clearly larger than it matter, so
-   the image is shrunk further and the search is cheaper still.
+   20x20 window finds the smallest faces) at a coarse scale step. A full
+   search costs several tracking steps, so it runs every 0.1 s while no face
+   is followed, every 0.3 s while one is; then only faces clearly larger than
+   it matter, so the image is shrunk further and the search is cheaper still.
 2. Check what it finds: the frontalface_default cascade (trained apart, so
    its mistakes are other ones) must find a face there too, and either the
    frontalface_alt cascade must agree strongly as well or the eye cascade
@@ -65,7 +65,7 @@ from .geometry import clamp_to_ellipse
 # Baxter's cameras have a focal length of about 410 pixels on their 1280x800 sensor (the
 # head camera's camera_info: K = [410, 0, 640, 0, 410, 400, ...]; calibrated hand cameras give
 # 403-406), and at 640x400 they crop the sensor's centre at the same focal length (roi offset
-# 320, 200, binning 1): 2 * atan(320 / 410) = 75.97 degrees across.
+# 320, 200, binning 1): 2 * atan(320 / 410) = 75.94 degrees across (76.5 at f = 406).
 BAXTER_HEAD_CAMERA_HFOV = 76.0
 
 Point = Tuple[float, float]
@@ -122,6 +122,7 @@ class FaceFollower:
     EYE = "haarcascade_eye.xml"
     STRONG = 12  # windows of both other face cascades that make a face sure without its eyes
     SMALLEST = 40.0  # pixels: the narrowest face looked for (the 20-pixel window, at half size)
+    STEP = 1.2  # the full search's scale step: coarse, as a face missed is found 0.1 s later
     TRACK_SIZE = 48.0  # pixels: the face's width in the region searched while tracking
     TURNS = (0.0, 25.0, -25.0)  # degrees the tracking region is turned to show a tilted face upright
     SEARCH_EVERY = 0.3  # seconds between full searches while a face is followed and found ...
@@ -143,6 +144,8 @@ class FaceFollower:
         self.hfov_deg = hfov_deg
         self.rate = rate
         self.hold = hold
+        self._frames = 0  # images seen: the clock when `update` is not told the time
+        self._now = -math.inf  # the time of the latest image
         self._find = self._cascade(self.FIND)
         self._check = self._cascade(self.CHECK)
         self._agree = self._cascade(self.AGREE)
@@ -161,7 +164,6 @@ class FaceFollower:
 
     def reset(self) -> None:
         """Forget every face seen so far."""
-        self._frames = 0
         self._shape: Optional[Tuple[int, ...]] = None
         self._face: Optional[Box] = None  # the face followed, filtered
         self._speed = (0.0, 0.0)  # its centre's, pixels a second
@@ -179,11 +181,14 @@ class FaceFollower:
     def update(self, image: Any, at: Optional[float] = None) -> Optional[Point]:
         """Look at one camera image, taken at `at` seconds; return the eye target, or None."""
         grey = self._grey(image)
-        if self._shape != grey.shape:  # another camera, or another size: start afresh
+        t = self._frames / self.rate if at is None else float(at)
+        if not math.isfinite(t):
+            raise ValueError(f"the time of a camera image must be a finite number, not {at}")
+        if self._shape != grey.shape or t < self._now:  # another camera or size, or a clock set back
             self.reset()
             self._shape = grey.shape
-        t = self._frames / self.rate if at is None else float(at)
         self._frames += 1
+        self._now = t
         tracked = self._track(grey, t) if self._face is not None else None
         if t >= self._next_search:
             busy = self._search(grey, t, tracked)
@@ -233,7 +238,7 @@ class FaceFollower:
             return None
         centres = [(bx + bw / 2.0, by + bw / 2.0, bw) for bx, by, bw, _ in boxes]
         u, v, w = min(centres, key=lambda c: math.hypot(c[0] - region.cx, c[1] - region.cy))
-        return Box(*self._unturn(region, u, v), w / region.scale, turn)
+        return Box(*self._unturn(region, u, v), float(w / region.scale), turn)
 
     def _region(
         self, grey: Any, x: float, y: float, size: float, reach: float, scaled: float, turn: float = 0.0
@@ -273,7 +278,7 @@ class FaceFollower:
         back = region.back
         x = back[0][0] * u + back[0][1] * v + back[0][2]
         y = back[1][0] * u + back[1][1] * v + back[1][2]
-        return region.x0 + x / region.scale, region.y0 + y / region.scale
+        return float(region.x0 + x / region.scale), float(region.y0 + y / region.scale)
 
     def _follow(self, box: Box, t: float) -> None:
         """Take `box` as the followed face's new position, through the alpha-beta filter."""
@@ -328,12 +333,14 @@ class FaceFollower:
         """Checked faces at least about `smallest` pixels wide anywhere in the image."""
         cv2 = self.cv2
         scale = min(1.0, 20.0 / smallest)
+        if min(grey.shape) * scale < 20:
+            return []
         small = (
             cv2.resize(grey, None, fx=scale, fy=scale, interpolation=cv2.INTER_AREA) if scale < 1.0 else grey
         )
         found = []
-        for bx, by, bw, _ in self._find.detectMultiScale(small, 1.1, 3, minSize=(20, 20)):
-            box = Box((bx + bw / 2.0) / scale, (by + bw / 2.0) / scale, bw / scale)
+        for bx, by, bw, _ in self._find.detectMultiScale(small, self.STEP, 3, minSize=(20, 20)):
+            box = Box(float((bx + bw / 2.0) / scale), float((by + bw / 2.0) / scale), float(bw / scale))
             if self._checked(grey, box):
                 found.append(box)
         return found

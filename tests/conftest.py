@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import importlib
 import os
 import signal
 import socket
@@ -91,3 +92,14 @@ def engine():
         if os.environ.get("CI") == "true":
             pytest.fail(f"CI needs espeak-ng: {e}")
         pytest.skip(f"espeak-ng is not installed: {e}")
+
+
+def needs(module: str):
+    """Import an optional module (OpenCV, scikit-image): skipped where it is missing, except in CI,
+    where make test installs it and a missing one must fail."""
+    try:
+        return importlib.import_module(module)
+    except ImportError as e:
+        if os.environ.get("CI") == "true":
+            pytest.fail(f"CI needs {module}: {e}")
+        pytest.skip(f"{module} is not installed: {e}")

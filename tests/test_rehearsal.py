@@ -16,7 +16,7 @@ from baxterface_cli.rehearsal import FollowSourceError, Rehearsal, open_source
 from baxterface_cli.renderer import Renderer
 from baxterface_cli.theme import Theme
 from baxterface_cli.timeline import compile_script
-from conftest import ROOT
+from conftest import ROOT, needs
 
 FPS = 30.0
 
@@ -173,7 +173,7 @@ def test_the_player_hands_each_frame_to_the_rehearsal(tmp_path):
 
 
 def test_a_face_in_a_picture_is_followed_and_a_dynamic_follow_turns_the_head_to_it_once():
-    pytest.importorskip("cv2")
+    needs("cv2")
     picture = str(ROOT / "scripts_examples" / "someone.jpg")  # a face about 26 degrees to the left
     frames = rehearse("follow face; wait 2s", picture, 2.0)
     t, state, note = frames[-1]
@@ -186,8 +186,8 @@ def test_a_face_in_a_picture_is_followed_and_a_dynamic_follow_turns_the_head_to_
 
 
 def test_a_face_that_leaves_a_video_is_let_go(tmp_path):
-    cv2 = pytest.importorskip("cv2")
-    pytest.importorskip("skimage")
+    cv2 = needs("cv2")
+    needs("skimage")
     from face_streams import leaving
 
     stream = leaving()
@@ -204,7 +204,7 @@ def test_a_face_that_leaves_a_video_is_let_go(tmp_path):
 
 
 def test_a_file_that_is_neither_trace_video_nor_picture_is_one_line(tmp_path):
-    pytest.importorskip("cv2")
+    needs("cv2")
     junk = tmp_path / "notes.txt"
     junk.write_text("hello")
     with pytest.raises(

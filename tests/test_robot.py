@@ -197,11 +197,12 @@ def test_a_face_cannot_be_followed_without_opencv_and_the_robot_says_so():
 
 
 def test_the_camera_watch_finds_the_face_on_its_thread_and_survives_bad_images():
-    cv2 = pytest.importorskip("cv2")
     import threading
 
     from baxterface_cli.camera import CameraWatch
-    from conftest import ROOT
+    from conftest import ROOT, needs
+
+    cv2 = needs("cv2")
 
     picture = cv2.imread(str(ROOT / "scripts_examples" / "someone.jpg"))
     seen, warnings, arrived, warned = [], [], threading.Event(), threading.Event()
