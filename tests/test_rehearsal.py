@@ -123,30 +123,30 @@ def test_a_bad_trace_line_is_named_by_file_and_line(tmp_path, line, message):
     assert "\n" not in str(caught.value)
 
 
-def test_play_follow_from_a_file_that_is_not_there_is_one_line_and_exit_1(tmp_path):
-    child = spawn_play("--follow-from", str(tmp_path / "gone.jsonl"), "-e", "follow human")
+def play_following(source, script):
+    """What `play --follow-from source -e script` printed in a terminal, and its exit status."""
+    child = spawn_play("--follow-from", str(source), "-e", script)
     child.expect(pexpect.EOF)
     child.close()
-    assert child.before.strip() == f"baxterface play: {tmp_path / 'gone.jsonl'}: no such file"
-    assert child.exitstatus == 1
+    return child.before, child.exitstatus
+
+
+def test_play_follow_from_a_file_that_is_not_there_is_one_line_and_exit_1(tmp_path):
+    printed, status = play_following(tmp_path / "gone.jsonl", "follow human")
+    assert printed.strip() == f"baxterface play: {tmp_path / 'gone.jsonl'}: no such file"
+    assert status == 1
 
 
 def test_play_follow_from_shows_what_is_followed_in_the_status_line(tmp_path):
     trace = write_trace(tmp_path / "left.jsonl", person_at([9, 10], seconds=2))
-    child = spawn_play("--follow-from", trace, "-e", "follow human; wait 1s")
-    child.expect(pexpect.EOF)
-    child.close()
-    assert "following human  sees the human" in child.before
-    assert child.exitstatus == 0
+    printed, status = play_following(trace, "follow human; wait 1s")
+    assert "following human  sees the human" in printed and status == 0
 
 
 def test_play_warns_when_the_script_follows_nothing(tmp_path):
     trace = write_trace(tmp_path / "left.jsonl", person_at([9], seconds=1))
-    child = spawn_play("--follow-from", trace, "-e", "happy")
-    child.expect(pexpect.EOF)
-    child.close()
-    assert "the script follows nothing, so --follow-from changes nothing" in child.before
-    assert child.exitstatus == 0
+    printed, status = play_following(trace, "happy")
+    assert "the script follows nothing, so --follow-from changes nothing" in printed and status == 0
 
 
 def test_the_player_hands_each_frame_to_the_rehearsal(tmp_path):
