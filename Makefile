@@ -14,12 +14,14 @@ ROS_PACKAGES := ros-core python3-rospy python3-cv-bridge python3-sensor-msgs pyt
 	python3-geometry-msgs python3-genpy python3-rostopic
 # Xvfb: a screen for the tests of `play`'s window; ffmpeg: ffprobe reads the videos written, and
 # the `ffmpeg` program is what `render` falls back to without PyAV; espeak-ng speaks `say`;
-# PortAudio is what `play` sounds through; sox reads the sounds in the tests.
-TEST_PACKAGES := $(ROS_PACKAGES) python3-venv xvfb ffmpeg espeak-ng libespeak-ng1 libportaudio2 sox
-EXTRAS := test,video,bag,speech,camera
+# PortAudio is what `play` sounds through; sox reads the sounds in the tests; chromium and its
+# driver load the studio's page in the browser tests.
+TEST_PACKAGES := $(ROS_PACKAGES) python3-venv xvfb ffmpeg espeak-ng libespeak-ng1 libportaudio2 sox \
+	chromium chromium-driver
+EXTRAS := test,video,bag,speech,camera,studio
 PIP_QUIET := --quiet --disable-pip-version-check
 
-.PHONY: play test lint format golden theme pictures bench system venv venv38 venv-ros ros clean
+.PHONY: play test lint format golden theme pictures bench system venv venv38 venv-ros ros clean editor studio
 
 venv: $(VENV)/.installed
 venv38: $(VENV38)/.installed
@@ -48,7 +50,8 @@ $(VENV_ROS)/.installed: pyproject.toml | system
 system:
 	@command -v roscore >/dev/null 2>&1 && command -v Xvfb >/dev/null 2>&1 && \
 		command -v ffprobe >/dev/null 2>&1 && command -v espeak-ng >/dev/null 2>&1 && \
-		command -v sox >/dev/null 2>&1 && ls /usr/lib/*/libportaudio.so.2 >/dev/null 2>&1 || { \
+		command -v sox >/dev/null 2>&1 && command -v chromedriver >/dev/null 2>&1 && \
+		ls /usr/lib/*/libportaudio.so.2 >/dev/null 2>&1 || { \
 		$(SUDO) apt-get update -qq && \
 		$(SUDO) env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $(TEST_PACKAGES) >/dev/null; }
 
@@ -89,6 +92,7 @@ bench: venv venv-ros
 	$(BIN)/python bench/bench_check.py
 	$(BIN)/python bench/bench_export.py
 	$(VENV_ROS)/bin/python bench/bench_speech.py
+	$(BIN)/python bench/bench_studio.py
 
 # A ROS-ready environment: installs ROS from Debian, then .venv-ros sees it.
 ros: venv-ros
@@ -97,6 +101,15 @@ ros: venv-ros
 # Plays in a window where there is a display, else in this terminal.
 play: venv
 	$(BIN)/baxterface play scripts_examples/show.face
+
+# The studio on the example script, in this machine's browser.
+studio: venv
+	$(BIN)/baxterface studio scripts_examples/show.face
+
+# Rebuild the studio's editor (CodeMirror, from npm) into baxterface_cli/studio/static/editor.js;
+# only when changing it: the built file is committed, and nothing needs Node at run time.
+editor:
+	cd baxterface_cli/studio/web && npm ci --no-audit --no-fund && npm run build
 
 clean:
 	rm -rf $(VENV) $(VENV38) $(VENV_ROS) .pytest_cache .hypothesis .ruff_cache build dist

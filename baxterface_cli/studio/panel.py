@@ -1,0 +1,82 @@
+"""The studio's button panel: labelled commands with shortcut keys, from a JSON file.
+
+The default panel is `panel.json` beside this file; a user copies it, edits
+it, and passes it with `--buttons`. Every command is checked when the file is
+read, so a bad one is reported once, with its label, not on the day it is
+pressed.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import List, NamedTuple, Optional, Union
+
+from ..diagnostics import ScriptError
+from ..parser import parse
+
+DEFAULT_PANEL = Path(__file__).resolve().parent / "panel.json"
+MAX_BUTTONS = 200
+
+
+class PanelError(Exception):
+    """A panel file that cannot be used; the message names the file and the button."""
+
+
+class Button(NamedTuple):
+    group: str
+    label: str
+    command: str
+    key: Optional[str]  # a character, or a KeyboardEvent.key name such as ArrowLeft
+
+    def as_json(self) -> dict:
+        return self._asdict()
+
+
+def load_panel(path: Union[None, str, Path] = None) -> List[Button]:
+    """The buttons in `path` (the default panel without one); PanelError if it is unusable."""
+    path = Path(path) if path else DEFAULT_PANEL
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+    except OSError as e:
+        raise PanelError(f"{path}: cannot read: {e.strerror or e}") from None
+    except (ValueError, UnicodeDecodeError) as e:
+        raise PanelError(f"{path}: not valid JSON: {e}") from None
+    entries = data.get("buttons") if isinstance(data, dict) else None
+    if not isinstance(entries, list):
+        raise PanelError(f'{path}: must hold an object with a "buttons" list')
+    if len(entries) > MAX_BUTTONS:
+        raise PanelError(f"{path}: {len(entries)} buttons; the most a panel takes is {MAX_BUTTONS}")
+    buttons: List[Button] = []
+    keys = {}
+    for number, entry in enumerate(entries, 1):
+        button = _button(entry, path, number)
+        if button.key is not None:
+            if button.key in keys:
+                raise PanelError(
+                    f"{path}: button {button.label!r} has key {button.key!r}, as {keys[button.key]!r} has"
+                )
+            keys[button.key] = button.label
+        buttons.append(button)
+    return buttons
+
+
+def _button(entry: object, path: Path, number: int) -> Button:
+    if not isinstance(entry, dict):
+        raise PanelError(f"{path}: button {number} must be an object with a label and a command")
+    label, command = entry.get("label"), entry.get("command")
+    group, key = entry.get("group", "Buttons"), entry.get("key")
+    if not isinstance(command, str) or not command.strip():
+        raise PanelError(f"{path}: button {number} needs a command")
+    if label is None:
+        label = command
+    for name, value in (("label", label), ("group", group)):
+        if not isinstance(value, str) or not value.strip():
+            raise PanelError(f"{path}: button {number}: {name} must be a non-empty string")
+    if key is not None and (not isinstance(key, str) or not key or len(key) > 20 or " " in key.strip()):
+        raise PanelError(f"{path}: button {label!r}: key must be one character or a key name like ArrowLeft")
+    try:
+        parse(command, f"{path} (button {label!r})")
+    except ScriptError as e:
+        raise PanelError(e.summary()) from None
+    return Button(group, label, command, key)

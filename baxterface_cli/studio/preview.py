@@ -1,0 +1,156 @@
+"""What the studio's preview shows: the editor's script on a transport, or the live session.
+
+Two sources, one face. The script plays, pauses, seeks and loops along its
+own timeline; a press switches the preview to the session, whose face
+carries on under the presses (see `session.py`); pressing play switches back.
+No clock inside: every call is given `now`, so it is all tested without
+waiting.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Optional, Tuple
+
+from ..effects import RobotStatus
+from ..idle import Animation
+from ..nodes import Script
+from ..parser import parse
+from ..state import FaceState
+from ..timeline import compile_script
+from .session import Session
+
+SCRIPT = "script"
+SESSION = "session"
+
+
+class Transport:
+    """A position along a script that plays, pauses, seeks and loops."""
+
+    def __init__(self) -> None:
+        self.playing = False
+        self.loop = False
+        self._at = 0.0  # the position when last paused or sought
+        self._since = 0.0  # the clock when it last started playing
+
+    def position(self, now: float, duration: float) -> float:
+        if not self.playing:
+            return min(self._at, duration)
+        t = self._at + (now - self._since)
+        if t < duration:
+            return t
+        if self.loop and duration > 0:
+            return t % duration
+        return duration
+
+    def play(self, now: float, duration: float) -> None:
+        if self.playing:
+            return
+        if self._at >= duration:  # at the end: play starts again
+            self._at = 0.0
+        self.playing, self._since = True, now
+
+    def pause(self, now: float, duration: float) -> None:
+        self._at, self.playing = self.position(now, duration), False
+
+    def seek(self, t: float, now: float, duration: float) -> None:
+        self._at, self._since = max(0.0, min(t, duration)), now
+
+    def set_loop(self, on: bool, now: float, duration: float) -> None:
+        self._at, self._since, self.loop = self.position(now, duration), now, on
+
+    def settle(self, now: float, duration: float) -> None:
+        """Stop at the end of a script that does not loop."""
+        if self.playing and not self.loop and self.position(now, duration) >= duration:
+            self._at, self.playing = duration, False
+
+
+class Preview:
+    """The face the studio shows at any moment, and what the robot would be doing."""
+
+    def __init__(self, seed: Optional[int] = None, idle: bool = True, filename: str = "session.face") -> None:
+        self.session = Session(seed, filename)
+        self.seed = self.session.seed
+        self.idle = idle
+        self.transport = Transport()
+        self.mode = SCRIPT
+        self.script = parse("", "<script>")
+        self.animation = Animation(compile_script(self.script, self.seed), idle, self.seed)
+        self._session_animation = Animation(self.session.timeline, idle, self.seed)
+
+    # -- the script
+
+    def load(self, script: Script) -> None:
+        """Play `script` from where the transport is (MissingTool if it says something with no engine)."""
+        self.animation = Animation(compile_script(script, self.seed), self.idle, self.seed)
+        self.script = script
+
+    @property
+    def duration(self) -> float:
+        return self.animation.duration
+
+    def play(self, now: float) -> None:
+        self.mode = SCRIPT
+        self.transport.play(now, self.duration)
+
+    def pause(self, now: float) -> None:
+        self.transport.pause(now, self.duration)
+
+    def seek(self, t: float, now: float) -> None:
+        self.mode = SCRIPT
+        self.transport.seek(t, now, self.duration)
+
+    def set_loop(self, on: bool, now: float) -> None:
+        self.transport.set_loop(on, now, self.duration)
+
+    # -- the session
+
+    def press(self, text: str, now: float) -> float:
+        """Play `text` now, in the session; its time there. ScriptError when it is bad."""
+        at = self.session.press(text, now)
+        self._session_animation = Animation(self.session.timeline, self.idle, self.seed)
+        if self.mode == SCRIPT:
+            self.transport.pause(now, self.duration)
+        self.mode = SESSION
+        return at
+
+    def clear_session(self) -> None:
+        self.session.clear()
+        self._session_animation = Animation(self.session.timeline, self.idle, self.seed)
+
+    # -- what is shown
+
+    def position(self, now: float) -> float:
+        if self.mode == SESSION:
+            return self.session.position(now)
+        self.transport.settle(now, self.duration)
+        return self.transport.position(now, self.duration)
+
+    def at(self, now: float) -> Tuple[float, FaceState, RobotStatus]:
+        """The position, the face, and the robot's status at `now`."""
+        animation = self._session_animation if self.mode == SESSION else self.animation
+        t = self.position(now)
+        return t, animation.sample(t), animation.timeline.status(t)
+
+    def status(self, now: float) -> dict:
+        """The preview as the page shows it beside the face."""
+        t, state, robot = self.at(now)
+        saying = robot.speaking(t)
+        return {
+            "kind": "status",
+            "mode": self.mode,
+            "t": round(t, 3),
+            "duration": round(self.session.timeline.duration if self.mode == SESSION else self.duration, 3),
+            "playing": self.mode == SESSION or self.transport.playing,
+            "loop": self.transport.loop,
+            "robot": {
+                "head_pan_deg": round(math.degrees(state.head_pan), 1),
+                "enabled": robot.enabled,
+                "following": robot.following,
+                "follow_dynamic": robot.follow_dynamic,
+                "seen": None,
+                "nodding": robot.nodding(t),
+                "saying": saying,
+                "exited": robot.exited,
+            },
+        }

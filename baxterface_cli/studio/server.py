@@ -1,0 +1,317 @@
+"""The studio on the web: Starlette routes over a `Workspace`, frames pushed over a WebSocket.
+
+A frame pump draws the preview with the project's renderer whenever the face
+changes (at most `fps` times a second, and at once after a press), encodes
+it as JPEG and hands it to every open page; it also watches the script and
+the panel on disk. A request that goes wrong is logged in one line and
+answered with its error; the server carries on.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import io
+import json
+import sys
+import threading
+import time
+from pathlib import Path
+from typing import Any, Awaitable, Callable, Dict, Optional, Set
+
+from ..diagnostics import ScriptError
+from ..renderer import Renderer
+from ..tables import LIMITS
+from .guard import Guard
+from .workspace import Workspace, diagnostics_json
+
+STATIC = Path(__file__).resolve().parent / "static"
+STATUS_EVERY = 0.1  # seconds between status messages to the page
+DISK_EVERY = 0.5  # seconds between looks at the script and the panel on disk
+JPEG_QUALITY = 85
+
+
+def log(message: str) -> None:
+    print(f"baxterface studio: {message}", file=sys.stderr, flush=True)
+
+
+class Frames:
+    """The preview drawn and encoded: one renderer, one thread at a time."""
+
+    def __init__(self, renderer: Renderer) -> None:
+        self.renderer = renderer
+        self.lock = threading.Lock()
+        self.last_state: Any = None
+        self.last_jpeg = b""
+
+    def jpeg(self, state: Any) -> bytes:
+        from PIL import Image
+
+        with self.lock:
+            if state == self.last_state and self.last_jpeg:
+                return self.last_jpeg
+            bgr = self.renderer.render(state)
+            out = io.BytesIO()
+            Image.fromarray(bgr[:, :, ::-1]).save(out, "JPEG", quality=JPEG_QUALITY)
+            self.last_state, self.last_jpeg = state, out.getvalue()
+            return self.last_jpeg
+
+
+class Pages:
+    """The open pages: each gets the newest frame and messages; a slow page skips frames, not messages."""
+
+    def __init__(self) -> None:
+        self.queues: Set[asyncio.Queue] = set()
+
+    def add(self) -> asyncio.Queue:
+        queue: asyncio.Queue = asyncio.Queue(maxsize=64)
+        self.queues.add(queue)
+        return queue
+
+    def remove(self, queue: asyncio.Queue) -> None:
+        self.queues.discard(queue)
+
+    def send(self, item: Any) -> None:
+        for queue in list(self.queues):
+            if queue.full():  # a page that does not keep up: drop its oldest
+                queue.get_nowait()
+            queue.put_nowait(item)
+
+
+def create_app(workspace: Workspace, renderer: Renderer, fps: float = 30.0, token: Optional[str] = None):
+    """The studio's ASGI application."""
+    from starlette.applications import Starlette
+    from starlette.concurrency import run_in_threadpool
+    from starlette.requests import Request
+    from starlette.responses import FileResponse, JSONResponse, Response
+    from starlette.routing import Mount, Route, WebSocketRoute
+    from starlette.staticfiles import StaticFiles
+    from starlette.websockets import WebSocket, WebSocketDisconnect
+
+    frames = Frames(renderer)
+    pages = Pages()
+    wake = asyncio.Event()
+    pump: Dict[str, Any] = {}
+
+    async def body_text(request: Request) -> str:
+        data = b""
+        async for chunk in request.stream():
+            data += chunk
+            if len(data) > LIMITS.max_bytes + 1024:
+                raise TooLarge()
+        return data.decode("utf-8", "replace")
+
+    async def body_json(request: Request) -> Dict[str, Any]:
+        try:
+            value = json.loads(await body_text(request) or "{}")
+        except ValueError as e:
+            raise BadRequest(f"the body must be JSON: {e}") from None
+        if not isinstance(value, dict):
+            raise BadRequest("the body must be a JSON object")
+        return value
+
+    def endpoint(
+        handler: Callable[[Request], Awaitable[Response]],
+    ) -> Callable[[Request], Awaitable[Response]]:
+        async def wrapped(request: Request) -> Response:
+            start_pump()
+            try:
+                return await handler(request)
+            except TooLarge:
+                return JSONResponse({"error": f"too large: the limit is {LIMITS.max_bytes} bytes"}, 413)
+            except BadRequest as e:
+                return JSONResponse({"error": str(e)}, 400)
+            except Exception as e:  # logged and answered; the studio carries on
+                log(f"{request.url.path}: {type(e).__name__}: {e}")
+                return JSONResponse({"error": f"{type(e).__name__}: {e}"}, 500)
+
+        return wrapped
+
+    @endpoint
+    async def index(request: Request) -> Response:
+        return FileResponse(STATIC / "index.html", headers={"cache-control": "no-store"})
+
+    @endpoint
+    async def state(request: Request) -> Response:
+        return JSONResponse(await run_in_threadpool(workspace.state))
+
+    @endpoint
+    async def check(request: Request) -> Response:
+        from .workspace import check_text
+
+        text = await body_text(request)
+        return JSONResponse(await run_in_threadpool(check_text, text, workspace.name))
+
+    @endpoint
+    async def script(request: Request) -> Response:
+        text = await body_text(request)
+        answer = await run_in_threadpool(workspace.update, text)
+        wake.set()
+        return JSONResponse(answer)
+
+    @endpoint
+    async def save(request: Request) -> Response:
+        text = await body_text(request)
+        try:
+            return JSONResponse(await run_in_threadpool(workspace.save, text))
+        except OSError as e:
+            return JSONResponse({"error": f"cannot save {workspace.name}: {e.strerror or e}"}, 500)
+
+    @endpoint
+    async def command(request: Request) -> Response:
+        text = await body_text(request)
+        if not text.strip():
+            return JSONResponse({"diagnostics": [_nothing()]}, 400)
+        try:
+            at = await run_in_threadpool(workspace.command, text)
+        except ScriptError as e:
+            return JSONResponse({"diagnostics": diagnostics_json(e.diagnostics)}, 400)
+        wake.set()
+        session = workspace.session()
+        pages.send({"kind": "session", "session": session})
+        return JSONResponse({"at": at, "session": session})
+
+    @endpoint
+    async def transport(request: Request) -> Response:
+        body = await body_json(request)
+        try:
+            t = float(body.get("t", 0.0))
+            status = workspace.transport(str(body.get("action")), t, bool(body.get("on", False)))
+        except (TypeError, ValueError) as e:
+            raise BadRequest(str(e)) from None
+        wake.set()
+        return JSONResponse(status)
+
+    @endpoint
+    async def robot(request: Request) -> Response:
+        body = await body_json(request)
+        return JSONResponse(await run_in_threadpool(workspace.robot.switch, bool(body.get("on"))))
+
+    @endpoint
+    async def export(request: Request) -> Response:
+        try:
+            return JSONResponse(await run_in_threadpool(workspace.export_session))
+        except OSError as e:
+            return JSONResponse({"error": f"cannot write the session: {e.strerror or e}"}, 500)
+
+    @endpoint
+    async def clear(request: Request) -> Response:
+        session = workspace.clear_session()
+        pages.send({"kind": "session", "session": session})
+        wake.set()
+        return JSONResponse(session)
+
+    @endpoint
+    async def frame(request: Request) -> Response:
+        jpeg = await run_in_threadpool(frames.jpeg, workspace.face())
+        return Response(jpeg, media_type="image/jpeg", headers={"cache-control": "no-store"})
+
+    async def live(websocket: WebSocket) -> None:
+        start_pump()
+        await websocket.accept()
+        queue = pages.add()
+        try:
+            await websocket.send_bytes(await run_in_threadpool(frames.jpeg, workspace.face()))
+            await websocket.send_text(json.dumps(workspace.status()))
+            while True:
+                item = await queue.get()
+                if isinstance(item, bytes):
+                    await websocket.send_bytes(item)
+                else:
+                    await websocket.send_text(json.dumps(item))
+        except (WebSocketDisconnect, RuntimeError, OSError):
+            pass
+        finally:
+            pages.remove(queue)
+
+    async def run_pump() -> None:
+        last_status = last_disk = 0.0
+        shown: Any = None
+        while True:
+            with contextlib.suppress(asyncio.TimeoutError):
+                await asyncio.wait_for(wake.wait(), timeout=1.0 / fps)
+            wake.clear()
+            try:
+                face = workspace.face()
+                if pages.queues and face != shown:
+                    pages.send(await run_in_threadpool(frames.jpeg, face))
+                    shown = face
+                now = time.monotonic()
+                if now - last_status >= STATUS_EVERY:
+                    pages.send(workspace.status())
+                    last_status = now
+                if now - last_disk >= DISK_EVERY:
+                    last_disk = now
+                    for change in await run_in_threadpool(workspace.disk_changes):
+                        pages.send(change)
+                        if change["kind"] == "disk":
+                            pages.send({"kind": "timeline", "timeline": workspace.timeline()})
+            except Exception as e:  # the pump must not die with one bad frame
+                log(f"preview: {type(e).__name__}: {e}")
+
+    def start_pump() -> None:
+        if "task" not in pump:
+            pump["task"] = asyncio.get_running_loop().create_task(run_pump())
+
+    routes = [
+        Route("/", index),
+        Route("/api/state", state),
+        Route("/api/check", check, methods=["POST"]),
+        Route("/api/script", script, methods=["POST"]),
+        Route("/api/save", save, methods=["POST"]),
+        Route("/api/command", command, methods=["POST"]),
+        Route("/api/transport", transport, methods=["POST"]),
+        Route("/api/robot", robot, methods=["POST"]),
+        Route("/api/session/export", export, methods=["POST"]),
+        Route("/api/session/clear", clear, methods=["POST"]),
+        Route("/api/frame.jpg", frame),
+        WebSocketRoute("/api/live", live),
+        Mount("/static", StaticFiles(directory=str(STATIC), check_dir=False), name="static"),
+    ]
+    return Guard(Starlette(routes=routes), token)
+
+
+class TooLarge(Exception):
+    pass
+
+
+class BadRequest(Exception):
+    pass
+
+
+def _nothing() -> Dict[str, Any]:
+    return {"line": 0, "column": 0, "severity": "error", "message": "no command: the body is empty"}
+
+
+def serve(app: Any, sock: Any) -> None:
+    """Run `app` on the bound socket until Ctrl-C."""
+    import uvicorn
+
+    config = uvicorn.Config(app, log_level="warning", lifespan="off", ws_max_size=4 * 1024 * 1024)
+    uvicorn.Server(config).run(sockets=[sock])
+
+
+def bind(host: str, port: int) -> Any:
+    """A listening socket on host:port (port 0: any free one); OSError when it is taken."""
+    import socket
+
+    family = socket.AF_INET6 if ":" in host else socket.AF_INET
+    sock = socket.socket(family, socket.SOCK_STREAM)
+    sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+    try:
+        sock.bind((host, port))
+    except OSError:
+        sock.close()
+        raise
+    sock.set_inheritable(True)
+    return sock
+
+
+def url_for(host: str, port: int, token: Optional[str]) -> str:
+    """The address to open: this machine's name when serving on every address."""
+    import socket
+
+    if host in ("0.0.0.0", "::", ""):
+        host = socket.gethostname()
+    shown = f"[{host}]" if ":" in host else host
+    return f"http://{shown}:{port}/" + (f"?token={token}" if token else "")

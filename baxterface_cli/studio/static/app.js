@@ -1,0 +1,327 @@
+// The studio's page: the editor, the preview and its transport, the button panel and the session.
+// Everything it does goes through the HTTP API and one WebSocket; the face is drawn by the server.
+"use strict";
+(function () {
+  const $ = (id) => document.getElementById(id);
+  const token = new URLSearchParams(location.search).get("token");
+  const headers = token ? { "X-Baxterface-Token": token } : {};
+
+  async function api(method, path, body) {
+    const init = { method, headers: { ...headers } };
+    if (body !== undefined) {
+      init.body = typeof body === "string" ? body : JSON.stringify(body);
+      init.headers["Content-Type"] = typeof body === "string" ? "text/plain; charset=utf-8" : "application/json";
+    }
+    const response = await fetch(path, init);
+    let data = null;
+    try {
+      data = await response.json();
+    } catch (e) {
+      data = { error: `${response.status} ${response.statusText}` };
+    }
+    return { ok: response.ok, status: response.status, data };
+  }
+
+  let editor = null;
+  let saved = "";
+  let duration = 0;
+  let spans = [];
+  let dragging = false;
+  window.__frames = 0;
+
+  // -- the editor
+
+  function showDiagnostics(list) {
+    const ul = $("diagnostics");
+    ul.replaceChildren();
+    for (const d of list) {
+      const li = document.createElement("li");
+      li.className = `diagnostic ${d.severity}`;
+      li.textContent = d.line ? `${d.line}:${d.column}: ${d.severity}: ${d.message}` : `${d.severity}: ${d.message}`;
+      li.onclick = () => {
+        if (!d.line) return;
+        const line = editor.view.state.doc.line(Math.min(d.line, editor.view.state.doc.lines));
+        editor.view.dispatch({ selection: { anchor: Math.min(line.to, line.from + d.column - 1) }, scrollIntoView: true });
+        editor.focus();
+      };
+      ul.appendChild(li);
+    }
+    window.__lintShownAt = performance.now();
+    window.__lintVersion = editor ? editor.version : 0;
+  }
+
+  async function lint(text, version) {
+    const { ok, data } = await api("POST", "/api/check", text);
+    if (!ok || !editor || version !== editor.version) return null; // stale: a newer one is coming
+    showDiagnostics(data);
+    return data;
+  }
+
+  function markSaved() {
+    const clean = editor.getText() === saved;
+    $("saved").textContent = clean ? "saved" : "unsaved";
+    $("saved").className = clean ? "marker" : "marker unsaved";
+  }
+
+  let scriptTimer = null;
+  function edited(text) {
+    markSaved();
+    clearTimeout(scriptTimer);
+    scriptTimer = setTimeout(async () => {
+      const { ok, data } = await api("POST", "/api/script", text);
+      if (ok) showTimeline(data.timeline);
+    }, 150);
+  }
+
+  async function save() {
+    const text = editor.getText();
+    const { ok, data } = await api("POST", "/api/save", text);
+    if (ok) {
+      saved = text;
+      $("notice").textContent = "";
+      markSaved();
+    } else {
+      $("notice").textContent = data.error || "could not save";
+    }
+  }
+
+  function diskChanged(message) {
+    if (editor.getText() === saved) {
+      saved = message.text;
+      editor.setText(message.text);
+      markSaved();
+      return;
+    }
+    saved = message.text;
+    const notice = $("notice");
+    notice.replaceChildren(`${message.name} changed on disk `);
+    const reload = document.createElement("button");
+    reload.textContent = "Reload";
+    reload.onclick = () => {
+      editor.setText(message.text);
+      notice.replaceChildren();
+      markSaved();
+    };
+    notice.appendChild(reload);
+    markSaved();
+  }
+
+  // -- the preview
+
+  function showTimeline(timeline) {
+    duration = timeline.duration;
+    spans = timeline.spans;
+    $("scrub").max = String(duration || 1);
+    const ol = $("timeline");
+    ol.replaceChildren();
+    for (const s of spans) {
+      const li = document.createElement("li");
+      const when = s.end > s.start ? `${s.start.toFixed(2)}–${s.end.toFixed(2)}` : s.start.toFixed(2);
+      li.textContent = `${when} s  line ${s.line}  ${s.text}`;
+      li.onclick = () => api("POST", "/api/transport", { action: "seek", t: s.start });
+      ol.appendChild(li);
+    }
+  }
+
+  function showStatus(s) {
+    $("play").textContent = s.mode === "script" && s.playing ? "Pause" : "Play";
+    $("mode").textContent = s.mode === "session" ? "live session" : "script";
+    $("time").textContent = `${s.t.toFixed(2)} / ${s.duration.toFixed(2)} s`;
+    $("loop").checked = s.loop;
+    if (!dragging && s.mode === "script") $("scrub").value = String(s.t);
+    if (s.mode === "script") {
+      [...$("timeline").children].forEach((li, i) => {
+        const span = spans[i];
+        li.classList.toggle("now", !!span && span.start <= s.t && s.t < Math.max(span.end, span.start + 0.05));
+      });
+    }
+    const r = s.robot;
+    const rows = [
+      ["head", `${r.head_pan_deg.toFixed(1)}°`],
+      ["robot", r.enabled === null ? "enable not asked" : r.enabled ? "enabled" : "disabled"],
+      ["following", r.following ? r.following + (r.follow_dynamic ? " (dynamic)" : "") : "nothing"],
+      ["nodding", r.nodding ? "yes" : "no"],
+      ["saying", r.saying ? `“${r.saying}”` : "—"],
+    ];
+    if (s.note) rows.push(["note", s.note]);
+    const panel = $("robot");
+    panel.replaceChildren();
+    for (const [label, value] of rows) {
+      const div = document.createElement("div");
+      const span = document.createElement("span");
+      span.className = "label";
+      span.textContent = label;
+      div.append(span, value);
+      panel.appendChild(div);
+    }
+  }
+
+  let frameUrl = null;
+  const preview = $("preview");
+  preview.onload = () => {
+    window.__frames += 1;
+    window.__lastFrameAt = performance.now();
+  };
+
+  function connect() {
+    const scheme = location.protocol === "https:" ? "wss" : "ws";
+    const ws = new WebSocket(`${scheme}://${location.host}/api/live${token ? "?token=" + encodeURIComponent(token) : ""}`);
+    ws.binaryType = "blob";
+    ws.onmessage = (event) => {
+      if (typeof event.data !== "string") {
+        const url = URL.createObjectURL(event.data);
+        preview.src = url;
+        if (frameUrl) URL.revokeObjectURL(frameUrl);
+        frameUrl = url;
+        return;
+      }
+      const message = JSON.parse(event.data);
+      if (message.kind === "status") showStatus(message);
+      else if (message.kind === "disk") diskChanged(message);
+      else if (message.kind === "timeline") showTimeline(message.timeline);
+      else if (message.kind === "session") showSession(message.session);
+      else if (message.kind === "buttons") showButtons(message.buttons);
+      else if (message.kind === "notice") $("notice").textContent = message.message;
+    };
+    ws.onclose = () => setTimeout(connect, 1000);
+  }
+
+  // -- the live session
+
+  function showSession(session) {
+    const ol = $("session");
+    ol.replaceChildren();
+    for (const p of session.presses) {
+      const li = document.createElement("li");
+      li.textContent = `${p.at.toFixed(3).padStart(8)} s  ${p.command.replace(/\n/g, "; ")}`;
+      ol.appendChild(li);
+    }
+    ol.scrollTop = ol.scrollHeight;
+  }
+
+  async function press(command) {
+    const { ok, data } = await api("POST", "/api/command", command);
+    $("command-error").textContent = ok
+      ? ""
+      : (data.diagnostics || [{ message: data.error }]).map((d) => (d.line ? `${d.line}:${d.column}: ` : "") + d.message).join("\n");
+    if (ok) showSession(data.session);
+    return ok;
+  }
+
+  let shortcuts = new Map();
+  function showButtons(buttons) {
+    const panel = $("buttons");
+    panel.replaceChildren();
+    shortcuts = new Map();
+    const groups = new Map();
+    for (const b of buttons) {
+      if (!groups.has(b.group)) {
+        const div = document.createElement("div");
+        div.className = "group";
+        const name = document.createElement("span");
+        name.textContent = b.group;
+        div.appendChild(name);
+        panel.appendChild(div);
+        groups.set(b.group, div);
+      }
+      const button = document.createElement("button");
+      button.className = "press";
+      button.title = b.command;
+      button.textContent = b.label;
+      if (b.key) {
+        const kbd = document.createElement("kbd");
+        kbd.textContent = b.key.replace(/^Arrow/, "");
+        button.appendChild(kbd);
+        shortcuts.set(b.key, button);
+      }
+      button.onclick = () => {
+        button.classList.add("flash");
+        setTimeout(() => button.classList.remove("flash"), 150);
+        press(b.command);
+      };
+      groups.get(b.group).appendChild(button);
+    }
+  }
+
+  function typing(target) {
+    return target.closest && (target.closest(".cm-editor") || ["INPUT", "TEXTAREA", "SELECT"].includes(target.tagName));
+  }
+
+  document.addEventListener("keydown", (event) => {
+    if ((event.ctrlKey || event.metaKey) && event.key.toLowerCase() === "s") {
+      event.preventDefault();
+      save();
+      return;
+    }
+    if (event.ctrlKey || event.metaKey || event.altKey || typing(event.target)) return;
+    if (event.key === " ") {
+      event.preventDefault();
+      $("play").click();
+      return;
+    }
+    const button = shortcuts.get(event.key);
+    if (button) {
+      event.preventDefault();
+      button.click();
+    }
+  });
+
+  // -- wiring
+
+  async function start() {
+    const { data: state } = await api("GET", "/api/state");
+    $("name").textContent = state.script.name;
+    saved = state.script.saved ? state.script.text : "";
+    editor = window.BaxterEditor.create($("editor"), {
+      doc: state.script.text,
+      vocabulary: state.vocabulary,
+      lint,
+      onChange: edited,
+    });
+    editor.relint(); // its first lint ran before `editor` was there to take the answer
+    markSaved();
+    showTimeline(state.timeline);
+    showButtons(state.buttons);
+    showSession(state.session);
+    $("robot-switch").checked = state.robot_link.on;
+    $("robot-status").textContent = state.robot_link.status;
+    $("save").onclick = save;
+    $("play").onclick = () => api("POST", "/api/transport", { action: $("play").textContent === "Play" ? "play" : "pause" });
+    $("loop").onchange = () => api("POST", "/api/transport", { action: "loop", on: $("loop").checked });
+    const scrub = $("scrub");
+    scrub.onpointerdown = () => (dragging = true);
+    scrub.onpointerup = () => (dragging = false);
+    scrub.oninput = () => api("POST", "/api/transport", { action: "seek", t: Number(scrub.value) });
+    $("command-form").onsubmit = async (event) => {
+      event.preventDefault();
+      if (await press($("command").value)) $("command").value = "";
+    };
+    $("robot-switch").onchange = async () => {
+      const { data } = await api("POST", "/api/robot", { on: $("robot-switch").checked });
+      $("robot-switch").checked = !!data.on;
+      $("robot-status").textContent = data.status || data.error || "";
+    };
+    $("export").onclick = async () => {
+      const { ok, data } = await api("POST", "/api/session/export");
+      const result = $("export-result");
+      result.replaceChildren();
+      if (!ok) {
+        result.textContent = data.error;
+        return;
+      }
+      const link = document.createElement("a");
+      link.href = URL.createObjectURL(new Blob([data.text], { type: "text/plain" }));
+      link.download = data.path;
+      link.textContent = "download";
+      result.append(`wrote ${data.path} beside the script `, link);
+    };
+    $("clear").onclick = async () => {
+      const { data } = await api("POST", "/api/session/clear");
+      showSession(data);
+    };
+    window.studio = { editor, press, api };
+    connect();
+  }
+
+  start();
+})();

@@ -1,0 +1,278 @@
+"""Everything the studio works on, without the web: the script file, the preview, the panel, the robot.
+
+The page edits the script; the workspace checks it (with `check`'s very
+diagnostics), plays its last good version in the preview, saves it
+atomically, notices when it changes on disk, plays presses in the session,
+sends them to the robot when that is switched on, and writes the session out
+beside the script. The only files it reads or writes are the script, the
+panel the user named, and session files in the script's folder: no request
+names a path.
+"""
+
+from __future__ import annotations
+
+import os
+import threading
+import time
+from pathlib import Path
+from typing import Any, Callable, Dict, List, Optional
+
+from ..diagnostics import Diagnostic, ScriptError
+from ..easing import EASINGS
+from ..extras import MissingTool
+from ..parser import decode, parse, read_bounded
+from ..partial import write_atomic
+from ..tables import BROWS, DIRECTIONS, EMOTIONS, MOUTHS
+from ..timeline import Timeline
+from ..vocabulary import BARE_WORDS, KEYWORDS
+from .panel import Button, PanelError, load_panel
+from .preview import Preview
+
+# Words the grammar takes after a keyword; with KEYWORDS, what the editor colours as keywords.
+GRAMMAR_WORDS = ("up", "in", "voice", "rate", "human", "face", "off", "left", "right", "arm")
+
+
+def diagnostics_json(diagnostics: List[Diagnostic]) -> List[Dict[str, Any]]:
+    return [
+        {"line": d.line, "column": d.column, "severity": d.severity, "message": d.message}
+        for d in diagnostics
+    ]
+
+
+def check_text(text: str, filename: str = "<script>") -> List[Dict[str, Any]]:
+    """What `baxterface check` says of `text`, as JSON records."""
+    try:
+        script = parse(text, filename)
+    except ScriptError as e:
+        return diagnostics_json(e.diagnostics)
+    return diagnostics_json(list(script.warnings))
+
+
+def timeline_json(timeline: Timeline) -> Dict[str, Any]:
+    """The timeline `explain` prints: each statement's span."""
+    spans = [
+        {"start": round(s.start, 3), "end": round(s.end, 3), "line": s.line, "text": s.text}
+        for s in timeline.spans
+    ]
+    return {"duration": round(timeline.duration, 3), "spans": spans}
+
+
+def vocabulary() -> Dict[str, List[str]]:
+    """The words the editor highlights, from the tables the parser uses."""
+    return {
+        "keywords": sorted(set(KEYWORDS) | set(GRAMMAR_WORDS)),
+        "words": sorted(BARE_WORDS),
+        "emotions": sorted(name for name in EMOTIONS if " " not in name),
+        "easings": sorted(EASINGS),
+        "mouths": list(MOUTHS),
+        "brows": list(BROWS),
+        "directions": sorted(DIRECTIONS),
+    }
+
+
+class RobotSwitch:
+    """Presses go to the robot too, once switched on and a ROS master answers."""
+
+    def __init__(self, topic: str = "display_chatter") -> None:
+        self.topic = topic
+        self.link: Optional[Any] = None
+        self.on = False
+        self.reason = "off"
+
+    def switch(self, on: bool) -> Dict[str, Any]:
+        if on and self.link is None:
+            from ..ros.connect import RosUnavailable, require_master, require_ros
+
+            try:
+                require_ros()
+                require_master(timeout=1.0)
+                from ..ros.chatter import ChatterLink
+
+                self.link = ChatterLink(self.topic)
+            except RosUnavailable as e:
+                self.reason = str(e)
+                return self.as_json()
+        self.on = on and self.link is not None
+        self.reason = "off" if not on else self.reason
+        return self.as_json()
+
+    def send(self, text: str) -> None:
+        if self.on and self.link is not None:
+            self.link.send(text)
+
+    def as_json(self) -> Dict[str, Any]:
+        status = self.link.status() if self.on and self.link is not None else self.reason
+        return {"on": self.on, "available": self.link is not None, "status": status}
+
+
+class Workspace:
+    """The studio's state; every method may be called from any thread."""
+
+    def __init__(
+        self,
+        path: Path,
+        panel: Optional[Path] = None,
+        seed: Optional[int] = None,
+        idle: bool = True,
+        clock: Callable[[], float] = time.monotonic,
+        topic: str = "display_chatter",
+    ) -> None:
+        self.path = path.resolve()
+        self.folder = self.path.parent
+        self.name = self.path.name
+        self.panel_path = panel
+        self.clock = clock
+        self.lock = threading.RLock()
+        self.preview = Preview(seed, idle, filename="session.face")
+        self.robot = RobotSwitch(topic)
+        self.buttons: List[Button] = load_panel(panel)
+        self.preview_note = ""
+        self.saved = self._read() if self.path.exists() else ""
+        self.text = self.saved
+        self._disk_mtime = self._mtime(self.path)
+        self._panel_mtime = self._mtime(panel) if panel else None
+        self.update(self.text)
+
+    # -- the script
+
+    def _read(self) -> str:
+        return decode(read_bounded(self.path, self.name), self.name)
+
+    @staticmethod
+    def _mtime(path: Optional[Path]) -> Optional[int]:
+        try:
+            return os.stat(str(path)).st_mtime_ns if path else None
+        except OSError:
+            return None
+
+    def update(self, text: str) -> Dict[str, Any]:
+        """The editor's text: checked, and played by the preview when it is good."""
+        try:
+            script = parse(text, self.name)
+        except ScriptError as e:
+            with self.lock:
+                self.text = text
+            return {"diagnostics": diagnostics_json(e.diagnostics), "timeline": self.timeline()}
+        diagnostics = diagnostics_json(list(script.warnings))
+        with self.lock:
+            self.text = text
+            try:
+                self.preview.load(script)
+                self.preview_note = ""
+            except MissingTool as e:  # `say` with no speech engine: check is content, play is not
+                self.preview_note = str(e)
+                diagnostics.append({"line": 0, "column": 0, "severity": "warning", "message": str(e)})
+        return {"diagnostics": diagnostics, "timeline": self.timeline()}
+
+    def timeline(self) -> Dict[str, Any]:
+        with self.lock:
+            return timeline_json(self.preview.animation.timeline)
+
+    def save(self, text: str) -> Dict[str, Any]:
+        data = text.encode("utf-8")
+        write_atomic(self.path, data)
+        with self.lock:
+            self.saved = self.text = text
+            self._disk_mtime = self._mtime(self.path)
+        return {"saved": True, "name": self.name}
+
+    def disk_changes(self) -> List[Dict[str, Any]]:
+        """What changed on disk since last asked: the script (as `play --watch` sees it) and the panel."""
+        changes: List[Dict[str, Any]] = []
+        mtime = self._mtime(self.path)
+        if mtime is not None and mtime != self._disk_mtime:
+            self._disk_mtime = mtime
+            try:
+                text = self._read()
+            except ScriptError:
+                text = None
+            if text is not None and text != self.saved:
+                with self.lock:
+                    unsaved = self.text != self.saved
+                    self.saved = text
+                if not unsaved:  # nothing of the user's to lose: play the new version
+                    self.update(text)
+                changes.append({"kind": "disk", "name": self.name, "text": text})
+        if self.panel_path is not None:
+            mtime = self._mtime(self.panel_path)
+            if mtime != self._panel_mtime:
+                self._panel_mtime = mtime
+                try:
+                    self.buttons = load_panel(self.panel_path)
+                    changes.append({"kind": "buttons", "buttons": [b.as_json() for b in self.buttons]})
+                except PanelError as e:  # keep the panel that works, and say why
+                    changes.append({"kind": "notice", "message": f"kept the last good panel: {e}"})
+        return changes
+
+    # -- the preview
+
+    def transport(self, action: str, t: float = 0.0, on: bool = False) -> Dict[str, Any]:
+        now = self.clock()
+        with self.lock:
+            if action == "play":
+                self.preview.play(now)
+            elif action == "pause":
+                self.preview.pause(now)
+            elif action == "seek":
+                self.preview.seek(t, now)
+            elif action == "loop":
+                self.preview.set_loop(on, now)
+            else:
+                raise ValueError(f"unknown transport action {action!r}; use play, pause, seek or loop")
+            return self.preview.status(now)
+
+    def status(self) -> Dict[str, Any]:
+        with self.lock:
+            status = self.preview.status(self.clock())
+        status["note"] = self.preview_note
+        return status
+
+    def face(self):
+        """The face to show now (an immutable FaceState)."""
+        with self.lock:
+            return self.preview.at(self.clock())[1]
+
+    # -- the session
+
+    def command(self, text: str) -> float:
+        """Play `text` now on the preview and, when switched on, on the robot; ScriptError if bad."""
+        with self.lock:
+            at = self.preview.press(text, self.clock())
+        self.robot.send(text)
+        return at
+
+    def session(self) -> Dict[str, Any]:
+        with self.lock:
+            return self.preview.session.as_json()
+
+    def clear_session(self) -> Dict[str, Any]:
+        with self.lock:
+            self.preview.clear_session()
+        return self.session()
+
+    def export_session(self) -> Dict[str, Any]:
+        """Write the session beside the script, under a name of its own time."""
+        stamp = time.strftime("%Y%m%d-%H%M%S")
+        target = self.folder / f"session-{stamp}.face"
+        number = 1
+        while target.exists():
+            number += 1
+            target = self.folder / f"session-{stamp}-{number}.face"
+        with self.lock:
+            session = self.preview.session
+            text = session.text_of(session.presses, target.name)
+        write_atomic(target, text.encode("utf-8"))
+        return {"path": target.name, "text": text}
+
+    def state(self) -> Dict[str, Any]:
+        """All the page needs when it loads."""
+        with self.lock:
+            script = {"name": self.name, "text": self.text, "saved": self.text == self.saved}
+        return {
+            "script": script,
+            "vocabulary": vocabulary(),
+            "buttons": [b.as_json() for b in self.buttons],
+            "timeline": self.timeline(),
+            "session": self.session(),
+            "robot_link": self.robot.as_json(),
+        }

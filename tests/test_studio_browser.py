@@ -1,0 +1,110 @@
+"""The studio's page in a real browser: Debian's chromium, headless."""
+
+from __future__ import annotations
+
+import re
+import subprocess
+
+import pytest
+
+from browser import chromium, errors_in_console, wait_for
+from studio_server import baxterface, running_studio
+
+# The preview as a number the page can compare: the sum of a few rows of its pixels.
+PREVIEW_PIXELS = """
+const img = document.getElementById('preview');
+if (!img.complete || !img.naturalWidth) return null;
+const c = document.createElement('canvas');
+c.width = img.naturalWidth; c.height = img.naturalHeight;
+const g = c.getContext('2d'); g.drawImage(img, 0, 0);
+const d = g.getImageData(0, 0, c.width, c.height).data;
+let s = 0; for (let i = 0; i < d.length; i += 4) s += d[i] + 2 * d[i + 1] + 3 * d[i + 2];
+return s;
+"""
+
+
+@pytest.fixture()
+def folder(tmp_path):
+    (tmp_path / "show.face").write_text("happy\nlook left in 1s\nwait 1s\n")
+    return tmp_path
+
+
+@pytest.fixture()
+def page(folder):
+    with running_studio(folder / "show.face", "--no-idle") as studio, chromium() as driver:
+        driver.get(studio.url)
+        wait_for(driver, "window.studio && document.querySelector('.cm-editor') && window.__frames >= 1")
+        yield studio, driver
+        assert errors_in_console(driver) == []
+
+
+def test_a_typo_is_underlined_with_checks_message(page):
+    studio, driver = page
+    assert (
+        driver.execute_script("return window.studio.editor.getText();") == "happy\nlook left in 1s\nwait 1s\n"
+    )
+    content = driver.find_element("css selector", ".cm-content")
+    content.click()
+    driver.execute_script(
+        "const v = window.studio.editor.view; v.dispatch({selection: {anchor: v.state.doc.length}});"
+    )
+    content.send_keys("mouth smil")
+    wait_for(driver, "document.querySelector('.cm-lintRange-error')")
+    messages = wait_for(
+        driver, "[...document.querySelectorAll('.diagnostic')].map(e => e.textContent).join('\\n') || null"
+    )
+    assert "4:7: error: unknown mouth 'smil'; did you mean 'smile'?" in messages
+    underlined = driver.find_element("css selector", ".cm-lintRange-error").text
+    assert underlined == "smil"
+    content.send_keys("e")  # fixed: the underline and the message go
+    wait_for(
+        driver, "!document.querySelector('.cm-lintRange-error') && !document.querySelector('.diagnostic')"
+    )
+
+
+def test_a_button_and_a_shortcut_change_the_preview_and_are_logged(page):
+    studio, driver = page
+    before = wait_for(driver, f"(() => {{ {PREVIEW_PIXELS} }})()")
+    button = next(b for b in driver.find_elements("css selector", "button.press") if "Look left" in b.text)
+    button.click()
+    wait_for(driver, f"(() => {{ {PREVIEW_PIXELS} }})() !== {before}")
+    driver.find_element("css selector", "body").click()
+    driver.find_element("css selector", "body").send_keys("s")  # Sad's shortcut in the default panel
+    log = wait_for(
+        driver,
+        "document.getElementById('session').textContent.includes('sad') && "
+        "document.getElementById('session').textContent",
+    )
+    assert log.index("look left in 0.4s") < log.index("sad")
+    _, session = studio.json("GET", "/api/state")
+    assert [p["command"] for p in session["session"]["presses"]] == ["look left in 0.4s", "sad"]
+
+
+def test_the_exported_log_replays_the_session(page, folder):
+    studio, driver = page
+    for command in ("happy", "look up in 0.4s", "blink"):
+        driver.execute_script("return window.studio.press(arguments[0]);", command)
+        wait_for(driver, f"document.getElementById('session').textContent.includes({command!r})")
+    driver.find_element("css selector", "#export").click()
+    name = wait_for(
+        driver,
+        "(document.getElementById('export-result').textContent.match(/session-[\\w-]+\\.face/) || [])[0]",
+    )
+    exported = folder / name
+    assert exported.exists()
+    done = subprocess.run([baxterface(), "explain", str(exported)], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    said = [m.group(1) for m in re.finditer(r" line \d+ +(.*)", done.stdout)]
+    assert [text for text in said if not text.startswith("wait")] == [
+        "happy",
+        "look 0 -97.5 in 0.4s",
+        "blink",
+    ]
+
+
+def test_a_change_on_disk_reaches_the_editor_and_the_preview(page, folder):
+    studio, driver = page
+    (folder / "show.face").write_text("sad\nwait 3s\n")
+    wait_for(driver, "window.studio.editor.getText() === 'sad\\nwait 3s\\n'")
+    _, state = studio.json("GET", "/api/state")
+    assert [s["text"] for s in state["timeline"]["spans"]] == ["sad", "wait 3s"]
