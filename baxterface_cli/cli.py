@@ -642,18 +642,25 @@ def studio(
         raise fail(f"baxterface studio: cannot serve on {host}:{port}: {e.strerror or e}") from None
     url = url_for(host, sock.getsockname()[1], token)
     made = "" if path.exists() else f" ({path.name} is made on first save)"
-    typer.echo(f"baxterface studio: {url}  editing {path}{made}; Ctrl-C stops", err=True)
-    if not no_browser:
-        import webbrowser
+    served = create_app(workspace, renderer, fps, token)
+    interrupted = False
+    try:  # from the moment the address is out, Ctrl-C is how the studio stops
+        typer.echo(f"baxterface studio: {url}  editing {path}{made}; Ctrl-C stops", err=True)
+        if not no_browser:
+            import webbrowser
 
-        webbrowser.open(url)
-    serve(create_app(workspace, renderer, fps, token), sock)
+            webbrowser.open(url)
+        serve(served, sock)
+    except KeyboardInterrupt:  # uvicorn stops cleanly, then passes Ctrl-C on
+        interrupted = True
     if workspace.text != workspace.saved:
         typer.echo(
             f"baxterface studio: stopped; the editor's last changes to {path.name} were not saved", err=True
         )
     else:
         typer.echo("baxterface studio: stopped", err=True)
+    if interrupted:
+        raise typer.Exit(130)
 
 
 @app.command()

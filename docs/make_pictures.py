@@ -361,6 +361,33 @@ def face_following(times=(1.5, 3.2, 5.0, 6.6)) -> Image.Image:
     return sheet(pairs, columns=2)
 
 
+def studio_page(path: Path) -> None:
+    """The studio's page in headless chromium: a typo underlined, a few presses in the session."""
+    import shutil
+    import sys
+
+    sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
+    from browser import chromium, wait_for
+    from studio_server import running_studio
+
+    with tempfile.TemporaryDirectory() as folder:
+        script = Path(folder) / "show.face"
+        shutil.copy(Path(__file__).resolve().parent.parent / "scripts_examples" / "show.face", script)
+        with running_studio(script, "--no-idle") as studio, chromium(1500, 950) as driver:
+            driver.get(studio.url)
+            wait_for(driver, "window.studio && window.__frames >= 1")
+            driver.execute_script(
+                "const v = window.studio.editor.view, line = v.state.doc.line(20);"
+                "v.dispatch({changes: {from: line.from, to: line.to, insert: 'hapy'}});"
+            )
+            wait_for(driver, "document.querySelector('.cm-lintRange-error')")
+            for command in ("wake up", "happy", "look left in 0.4s", 'say "Hello! I am Baxter."'):
+                driver.execute_script("return window.studio.press(arguments[0]);", command)
+                wait_for(driver, f"document.getElementById('session').textContent.includes({command!r})")
+            wait_for(driver, "document.getElementById('robot').textContent.includes('Hello')")
+            driver.save_screenshot(str(path))
+
+
 def main() -> None:
     OUT.mkdir(exist_ok=True)
     save_sheet(emotions(), OUT / "emotions.png")
@@ -370,6 +397,7 @@ def main() -> None:
     crossfade().save(OUT / "crossfade.png", optimize=True)
     sonar_walk().save(OUT / "sonar-walk.png", optimize=True)
     save_sheet(face_following(), OUT / "face-following.png")
+    studio_page(OUT / "studio.png")
     try:
         lipsync().save(OUT / "lipsync.png", optimize=True)
     except MissingTool as e:  # the one picture that speaks
@@ -383,6 +411,7 @@ def main() -> None:
         "sonar-walk.png",
         "face-following.png",
         "lipsync.png",
+        "studio.png",
     ):
         print(OUT / name)
 

@@ -14,6 +14,7 @@ import pytest
 
 from baxterface_cli import parse
 from baxterface_cli.vocabulary import BARE_WORDS, LEGACY_USAGE
+from conftest import free_port
 
 pytestmark = pytest.mark.language
 
@@ -130,6 +131,10 @@ def test_console_examples_print_what_the_docs_show(doc, command, expected, doc_f
             subprocess.run(earlier, shell=True, cwd=str(doc_folder), env=doc_env(), capture_output=True)
     if command.startswith("baxterface theme check broken"):
         break_a_theme(doc_folder / "broken")
+    if command.startswith("baxterface studio"):
+        return studio_example(command, expected, doc_folder)
+    if command.startswith("curl ") and ":8080/" in command:
+        return curl_example(command, expected, doc_folder)
     if command.startswith("baxterface play"):
         child = pexpect.spawn("bash", ["-c", command], cwd=str(doc_folder), env=doc_env(), timeout=60)
         child.expect(pexpect.EOF)
@@ -144,6 +149,44 @@ def test_console_examples_print_what_the_docs_show(doc, command, expected, doc_f
     )
     printed = (run.stdout + run.stderr).rstrip("\n")
     assert matches(expected, printed.splitlines() if printed else []), printed
+
+
+def studio_example(command, expected, folder):
+    """A studio serves until Ctrl-C: it prints what the docs show (on a free port), then stops."""
+    port = str(free_port())
+    child = pexpect.spawn(
+        "bash",
+        ["-c", command.replace("--no-browser", f"--no-browser --port {port}")],
+        cwd=str(folder),
+        env=doc_env(),
+        timeout=60,
+        encoding="utf-8",
+    )
+    for line in expected:
+        child.expect_exact(line.replace(":8080/", f":{port}/"))
+    child.sendintr()
+    child.expect(pexpect.EOF)
+    child.close()
+    assert child.exitstatus == 130 and "baxterface studio: stopped" in child.before
+
+
+def curl_example(command, expected, folder):
+    """The API examples, against a studio on show.face at a free port in place of 8080."""
+    from studio_server import running_studio
+
+    with running_studio(folder / "show.face") as studio:
+        port = studio.base.rsplit(":", 1)[1]
+        run = subprocess.run(
+            command.replace(":8080/", f":{port}/"),
+            shell=True,
+            cwd=str(folder),
+            env=doc_env(),
+            capture_output=True,
+            text=True,
+            timeout=120,
+        )
+    assert run.returncode == 0, run.stderr
+    assert matches(expected, run.stdout.rstrip("\n").splitlines()), run.stdout
 
 
 def doc_env():

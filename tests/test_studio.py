@@ -305,3 +305,13 @@ def test_a_bad_panel_stops_the_studio_with_one_line(folder):
     assert len(lines) == 1 and lines[0].startswith(
         f"baxterface studio: {panel} (button 'Hi'):1:5: error: unterminated string"
     )
+
+
+def test_the_docs_show_the_session_export_as_written():
+    session = Session(seed=1234)
+    for at, command in ((0.0, "look left in 2s"), (0.5, "sad"), (2.5, "blink")):
+        session.press(command, at)
+    doc = (REPO / "docs" / "studio.md").read_text(encoding="utf-8")
+    shown = doc.split("```\n# baxterface studio session")[1].split("```")[0].splitlines()[1:]
+    written = session.text_of(session.presses, "session-20261122-140318.face").splitlines()[1:]
+    assert shown == written
