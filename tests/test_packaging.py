@@ -29,6 +29,10 @@ def test_wheel_installs_into_a_fresh_venv_and_runs_from_elsewhere(tmp_path):
     assert "baxterface_cli/assets/default/skin-5.png" in names
     assert "baxterface_cli/buttons.json" in names
     assert "baxterface_cli/data/voices.txt" in names  # what `check` knows voices by
+    for page in ("index.html", "app.js", "editor.js", "studio.css"):  # the studio, with no Node
+        assert f"baxterface_cli/studio/static/{page}" in names
+    assert "baxterface_cli/studio/panel.json" in names
+    assert not [n for n in names if "/studio/web/" in n]  # the editor's build recipe stays in the sdist
 
     env_dir = tmp_path / "venv"
     venv.create(env_dir, with_pip=True)

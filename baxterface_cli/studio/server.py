@@ -20,6 +20,7 @@ from pathlib import Path
 from typing import Any, Awaitable, Callable, Dict, Optional, Set
 
 from ..diagnostics import ScriptError
+from ..extras import MissingTool
 from ..renderer import Renderer
 from ..tables import LIMITS
 from .guard import Guard
@@ -90,8 +91,11 @@ def create_app(workspace: Workspace, renderer: Renderer, fps: float = 30.0, toke
 
     frames = Frames(renderer)
     pages = Pages()
-    wake = asyncio.Event()
-    pump: Dict[str, Any] = {}
+    pump: Dict[str, Any] = {}  # the frame pump's task and the event that wakes it, made in the server's loop
+
+    def wake() -> None:
+        if "wake" in pump:
+            pump["wake"].set()
 
     async def body_text(request: Request) -> str:
         data = b""
@@ -146,7 +150,7 @@ def create_app(workspace: Workspace, renderer: Renderer, fps: float = 30.0, toke
     async def script(request: Request) -> Response:
         text = await body_text(request)
         answer = await run_in_threadpool(workspace.update, text)
-        wake.set()
+        wake()
         return JSONResponse(answer)
 
     @endpoint
@@ -161,12 +165,14 @@ def create_app(workspace: Workspace, renderer: Renderer, fps: float = 30.0, toke
     async def command(request: Request) -> Response:
         text = await body_text(request)
         if not text.strip():
-            return JSONResponse({"diagnostics": [_nothing()]}, 400)
+            return JSONResponse({"diagnostics": [_problem("no command: the body is empty")]}, 400)
         try:
             at = await run_in_threadpool(workspace.command, text)
         except ScriptError as e:
             return JSONResponse({"diagnostics": diagnostics_json(e.diagnostics)}, 400)
-        wake.set()
+        except MissingTool as e:  # `say` with no speech engine here
+            return JSONResponse({"diagnostics": [_problem(str(e))]}, 400)
+        wake()
         session = workspace.session()
         pages.send({"kind": "session", "session": session})
         return JSONResponse({"at": at, "session": session})
@@ -179,7 +185,7 @@ def create_app(workspace: Workspace, renderer: Renderer, fps: float = 30.0, toke
             status = workspace.transport(str(body.get("action")), t, bool(body.get("on", False)))
         except (TypeError, ValueError) as e:
             raise BadRequest(str(e)) from None
-        wake.set()
+        wake()
         return JSONResponse(status)
 
     @endpoint
@@ -198,7 +204,7 @@ def create_app(workspace: Workspace, renderer: Renderer, fps: float = 30.0, toke
     async def clear(request: Request) -> Response:
         session = workspace.clear_session()
         pages.send({"kind": "session", "session": session})
-        wake.set()
+        wake()
         return JSONResponse(session)
 
     @endpoint
@@ -229,8 +235,8 @@ def create_app(workspace: Workspace, renderer: Renderer, fps: float = 30.0, toke
         shown: Any = None
         while True:
             with contextlib.suppress(asyncio.TimeoutError):
-                await asyncio.wait_for(wake.wait(), timeout=1.0 / fps)
-            wake.clear()
+                await asyncio.wait_for(pump["wake"].wait(), timeout=1.0 / fps)
+            pump["wake"].clear()
             try:
                 face = workspace.face()
                 if pages.queues and face != shown:
@@ -251,6 +257,7 @@ def create_app(workspace: Workspace, renderer: Renderer, fps: float = 30.0, toke
 
     def start_pump() -> None:
         if "task" not in pump:
+            pump["wake"] = asyncio.Event()  # Python 3.8 ties an Event to the loop it is made in
             pump["task"] = asyncio.get_running_loop().create_task(run_pump())
 
     routes = [
@@ -279,8 +286,9 @@ class BadRequest(Exception):
     pass
 
 
-def _nothing() -> Dict[str, Any]:
-    return {"line": 0, "column": 0, "severity": "error", "message": "no command: the body is empty"}
+def _problem(message: str) -> Dict[str, Any]:
+    """A diagnostic with no place in the text."""
+    return {"line": 0, "column": 0, "severity": "error", "message": message}
 
 
 def serve(app: Any, sock: Any) -> None:
