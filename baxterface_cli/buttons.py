@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
-from typing import Dict, List, Optional, Sequence, Union
+from typing import Any, Dict, List, Optional, Sequence, Type, Union
 
 from .diagnostics import ScriptError
 from .parser import parse
@@ -36,12 +36,7 @@ class ButtonMap:
     @classmethod
     def load(cls, path: Union[None, str, Path] = None) -> ButtonMap:
         path = Path(path) if path else DEFAULT_MAPPING
-        try:
-            data = json.loads(path.read_text(encoding="utf-8"))
-        except OSError as e:
-            raise MappingError(f"{path}: cannot read: {e.strerror or e}") from None
-        except (ValueError, UnicodeDecodeError) as e:
-            raise MappingError(f"{path}: not valid JSON: {e}") from None
+        data = read_json(path, MappingError)
         if not isinstance(data, dict):
             raise MappingError(f"{path}: must hold a JSON object")
         buttons: Dict[str, List[str]] = {}
@@ -55,6 +50,16 @@ class ButtonMap:
         if navigator is not None and navigator not in NAVIGATORS:
             raise MappingError(f"{path}: unknown wheel navigator {navigator!r}")
         return cls(buttons, navigator, _commands(wheel.get("commands", []), path, "wheel") if wheel else [])
+
+
+def read_json(path: Path, error: Type[Exception]) -> Any:
+    """A user's JSON file, or `error` saying in one line why it cannot be read."""
+    try:
+        return json.loads(path.read_text(encoding="utf-8"))
+    except OSError as e:
+        raise error(f"{path}: cannot read: {e.strerror or e}") from None
+    except (ValueError, UnicodeDecodeError) as e:
+        raise error(f"{path}: not valid JSON: {e}") from None
 
 
 def _commands(value: object, path: Path, key: str) -> List[str]:

@@ -8,10 +8,10 @@ pressed.
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 from typing import List, NamedTuple, Optional, Union
 
+from ..buttons import read_json
 from ..diagnostics import ScriptError
 from ..parser import parse
 
@@ -36,12 +36,7 @@ class Button(NamedTuple):
 def load_panel(path: Union[None, str, Path] = None) -> List[Button]:
     """The buttons in `path` (the default panel without one); PanelError if it is unusable."""
     path = Path(path) if path else DEFAULT_PANEL
-    try:
-        data = json.loads(path.read_text(encoding="utf-8"))
-    except OSError as e:
-        raise PanelError(f"{path}: cannot read: {e.strerror or e}") from None
-    except (ValueError, UnicodeDecodeError) as e:
-        raise PanelError(f"{path}: not valid JSON: {e}") from None
+    data = read_json(path, PanelError)
     entries = data.get("buttons") if isinstance(data, dict) else None
     if not isinstance(entries, list):
         raise PanelError(f'{path}: must hold an object with a "buttons" list')
