@@ -52,9 +52,10 @@
 
   async function lint(text, version) {
     const { ok, data } = await api("POST", "/api/check", text);
-    if (!ok || !editor || version !== editor.version) return null; // stale: a newer one is coming
-    showDiagnostics(data);
-    return data;
+    if (!editor || version !== editor.version) return null; // stale: a newer one is coming
+    const list = ok && Array.isArray(data) ? data : [{ line: 0, column: 0, severity: "error", message: data.error || "check failed" }];
+    showDiagnostics(list);
+    return list;
   }
 
   function markSaved() {
@@ -135,11 +136,12 @@
         li.classList.toggle("now", !!span && span.start <= s.t && s.t < Math.max(span.end, span.start + 0.05));
       });
     }
-    const r = s.robot;
+    const r = s.robot || {};
+    const seen = r.seen === true ? ", seen" : r.seen === false ? ", not seen" : "";
     const rows = [
-      ["head", `${r.head_pan_deg.toFixed(1)}°`],
-      ["robot", r.enabled === null ? "enable not asked" : r.enabled ? "enabled" : "disabled"],
-      ["following", r.following ? r.following + (r.follow_dynamic ? " (dynamic)" : "") : "nothing"],
+      ["head", typeof r.head_pan_deg === "number" ? `${r.head_pan_deg.toFixed(1)}°` : "—"],
+      ["robot", r.enabled == null ? "unknown" : r.enabled ? "enabled" : "disabled"],
+      ["following", r.following ? r.following + (r.follow_dynamic ? " (dynamic)" : "") + seen : "nothing"],
       ["nodding", r.nodding ? "yes" : "no"],
       ["saying", r.saying ? `“${r.saying}”` : "—"],
     ];
@@ -243,8 +245,14 @@
     }
   }
 
+  // Focus in the editor or a field that takes text: keys are for it, not shortcuts.
+  // (A checkbox, the slider or a button keeps the shortcuts working.)
+  const NOT_TEXT = ["checkbox", "radio", "range", "button", "submit", "reset", "color", "file"];
   function typing(target) {
-    return target.closest && (target.closest(".cm-editor") || ["INPUT", "TEXTAREA", "SELECT"].includes(target.tagName));
+    if (!target || !target.closest) return false;
+    if (target.closest(".cm-editor") || target.isContentEditable) return true;
+    if (target.tagName === "TEXTAREA" || target.tagName === "SELECT") return true;
+    return target.tagName === "INPUT" && !NOT_TEXT.includes(target.type);
   }
 
   document.addEventListener("keydown", (event) => {
@@ -290,7 +298,9 @@
     $("loop").onchange = () => api("POST", "/api/transport", { action: "loop", on: $("loop").checked });
     const scrub = $("scrub");
     scrub.onpointerdown = () => (dragging = true);
-    scrub.onpointerup = () => (dragging = false);
+    window.addEventListener("pointerup", () => (dragging = false));
+    window.addEventListener("pointercancel", () => (dragging = false));
+    scrub.onchange = () => (dragging = false);
     scrub.oninput = () => api("POST", "/api/transport", { action: "seek", t: Number(scrub.value) });
     $("command-form").onsubmit = async (event) => {
       event.preventDefault();
