@@ -161,6 +161,11 @@ class Timeline:
             return self.speech[i]
         return None
 
+    def sounding(self, t: float) -> List[Said]:
+        """Every utterance heard at t, earliest first: a `together`'s overlap, as the sound mixes them."""
+        i = bisect.bisect_right(self._speech_times, t)
+        return [said for said in self.speech[:i] if t < said.end]
+
     def _sample_parts(self, t: float) -> FaceState:
         x, y = self.eyes.value(t)
         i = bisect.bisect_right(self._emotion_times, t) - 1

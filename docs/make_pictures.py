@@ -376,6 +376,7 @@ def studio_page(path: Path) -> None:
         with running_studio(script, "--no-idle") as studio, chromium(1500, 950) as driver:
             driver.get(studio.url)
             wait_for(driver, "window.studio && window.__frames >= 1")
+            driver.find_element("css selector", "#robot").click()  # used, as a person would: sound may play
             driver.execute_script(
                 "const v = window.studio.editor.view, line = v.state.doc.line(20);"
                 "v.dispatch({changes: {from: line.from, to: line.to, insert: 'hapy'}});"

@@ -112,6 +112,26 @@ def test_a_press_switches_the_preview_to_the_session_and_play_switches_back():
     assert preview.mode == SCRIPT and t == pytest.approx(0.6)
 
 
+def test_the_preview_says_what_is_heard_while_it_plays(engine):
+    preview = Preview(seed=3, idle=False)
+    script = 'happy\nwait 1s\ntogether {\n  say "Hello there."\n  say "Yes." voice en-gb\n}'
+    preview.load(parse(script, "x.face"))
+    assert preview.sounds(0.0) == []  # not playing
+    preview.play(0.0)
+    start = preview.animation.timeline.speech[0].at  # after happy's crossfade and the wait
+    assert preview.sounds(start - 0.01) == []
+    hello, yes = preview.sounds(start + 0.1)
+    assert hello["at"] == yes["at"] == round(start, 3) and hello["key"] != yes["key"]
+    assert preview.utterance(hello["key"]).text == "Hello there."
+    assert preview.utterance(yes["key"]).voice == "en-gb"
+    preview.pause(start + 0.2)
+    assert preview.sounds(start + 0.3) == []  # paused: silent
+    preview.press('say "Yes." voice en-gb', 5.0)  # the session says it too: the same sound
+    assert preview.sounds(5.01) == [{"key": yes["key"], "at": 0.0}]
+    assert preview.sounds(9.0) == []  # said
+    assert preview.utterance("0123456789abcdef") is None
+
+
 def test_the_default_panel_has_emotions_looks_actions_and_phrases():
     buttons = load_panel()
     groups = {b.group for b in buttons}
@@ -206,6 +226,25 @@ def test_the_api_checks_plays_commands_and_shows_the_frame(folder):
             "look 65 0 in 1s",
         ]  # as explain says it
         assert "happy" in answer["vocabulary"]["emotions"] and "look" in answer["vocabulary"]["keywords"]
+
+
+def test_the_sound_of_what_is_said_is_served_as_wav(folder, engine):
+    import wave
+
+    with running_studio(folder / "show.face", "--no-idle") as studio:
+        said = "Hello there, this is the studio speaking."  # long enough to be heard when asked
+        assert studio.json("POST", "/api/command", f'say "{said}"')[0] == 200
+        _, state = studio.json("GET", "/api/state")
+        (heard,) = state["status"]["sounds"]
+        code, wav = studio.request("GET", f"/api/sound/{heard['key']}.wav")
+        assert code == 200
+        with wave.open(io.BytesIO(wav)) as w:
+            samples = np.frombuffer(w.readframes(w.getnframes()), "<i2")
+            rate = w.getframerate()
+        utterance = engine.say(said)
+        assert rate == utterance.sample_rate and np.array_equal(samples, utterance.samples)
+        for key in ("0123456789abcdef", "..%2F..%2Fetc%2Fpasswd", "x" * 16):
+            assert studio.request("GET", f"/api/sound/{key}.wav")[0] == 404
 
 
 def test_saving_writes_the_script_whole_and_nothing_else(folder):

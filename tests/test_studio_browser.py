@@ -108,3 +108,35 @@ def test_a_change_on_disk_reaches_the_editor_and_the_preview(page, folder):
     wait_for(driver, "window.studio.editor.getText() === 'sad\\nwait 3s\\n'")
     _, state = studio.json("GET", "/api/state")
     assert [s["text"] for s in state["timeline"]["spans"]] == ["sad", "wait 3s"]
+
+
+def test_what_the_face_says_is_heard_and_the_switch_silences_it(page, engine):
+    studio, driver = page
+    button = next(b for b in driver.find_elements("css selector", "button.press") if "Say again?" in b.text)
+    button.click()  # a click: the page may make sound from now on
+    started = wait_for(driver, "window.__sounds.length && window.__sounds[0]")
+    sounding = wait_for(driver, "window.studio.sounds().filter(s => !s.paused && s.t > 0.3).length")
+    assert sounding == 1  # the sound goes on in the browser
+    code, wav = studio.request("GET", f"/api/sound/{started['key']}.wav")
+    assert code == 200 and len(wav) > 2 * engine.say("Sorry, could you say that again?").sample_rate
+    driver.find_element("css selector", "#sound").click()  # off: silence at once
+    assert driver.execute_script("return window.studio.sounds().length;") == 0
+    driver.execute_script("return window.studio.press('say \"Thank you!\"');")
+    wait_for(driver, "document.getElementById('session').textContent.includes('Thank you')")
+    driver.execute_script("return new Promise(r => setTimeout(r, 500));")
+    assert driver.execute_script("return window.__sounds.length;") == 1
+
+
+def test_the_script_is_heard_from_where_it_is_played_and_pausing_stops_it(page, folder, engine):
+    studio, driver = page
+    said = "One, two, three, four, five, six, seven, eight, nine, ten."
+    (folder / "show.face").write_text(f'say "{said}"\n')
+    wait_for(driver, f"window.studio.editor.getText().includes({said!r})")
+    driver.find_element("css selector", "body").click()
+    driver.execute_script("return window.studio.api('POST', '/api/transport', {action: 'seek', t: 1.5});")
+    driver.find_element("css selector", "#play").click()
+    started = wait_for(driver, "window.__sounds.length && window.__sounds[0]")
+    assert started["at"] == 0 and started["offset"] >= 1.5  # from the middle, where the preview is
+    wait_for(driver, "window.studio.sounds().length === 1")
+    driver.find_element("css selector", "#play").click()  # pause
+    wait_for(driver, "window.studio.sounds().length === 0")

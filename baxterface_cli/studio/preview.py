@@ -9,19 +9,27 @@ waiting.
 
 from __future__ import annotations
 
+import hashlib
 import math
-from typing import Optional, Tuple
+from typing import Dict, List, Optional, Tuple
 
 from ..effects import RobotStatus
 from ..idle import Animation
 from ..nodes import Script
 from ..parser import parse
+from ..speech import Utterance
 from ..state import FaceState
-from ..timeline import compile_script
+from ..timeline import Said, compile_script
 from .session import Session
 
 SCRIPT = "script"
 SESSION = "session"
+
+
+def sound_key(utterance: Utterance) -> str:
+    """A name for an utterance's sound that the page can ask for: the same words, voice and rate, one key."""
+    said = f"{utterance.voice}\n{utterance.rate}\n{utterance.text}".encode()
+    return hashlib.sha1(said).hexdigest()[:16]
 
 
 class Transport:
@@ -126,11 +134,30 @@ class Preview:
         self.transport.settle(now, self.duration)
         return self.transport.position(now, self.duration)
 
+    def _shown(self) -> Animation:
+        return self._session_animation if self.mode == SESSION else self.animation
+
     def at(self, now: float) -> Tuple[float, FaceState, RobotStatus]:
         """The position, the face, and the robot's status at `now`."""
-        animation = self._session_animation if self.mode == SESSION else self.animation
+        animation = self._shown()
         t = self.position(now)
         return t, animation.sample(t), animation.timeline.status(t)
+
+    def sounds(self, now: float) -> List[Dict[str, object]]:
+        """What is heard now, to be played by the page from `at` (empty while paused)."""
+        t = self.position(now)
+        if self.mode == SCRIPT and not self.transport.playing:
+            return []
+        heard: List[Said] = self._shown().timeline.sounding(t)
+        return [{"key": sound_key(said.utterance), "at": round(said.at, 3)} for said in heard]
+
+    def utterance(self, key: str) -> Optional[Utterance]:
+        """The utterance of the script or the session whose sound is called `key`."""
+        for animation in (self.animation, self._session_animation):
+            for said in animation.timeline.speech:
+                if sound_key(said.utterance) == key:
+                    return said.utterance
+        return None
 
     def status(self, now: float) -> dict:
         """The preview as the page shows it beside the face."""
@@ -143,6 +170,7 @@ class Preview:
             "duration": round(self.session.timeline.duration if self.mode == SESSION else self.duration, 3),
             "playing": self.mode == SESSION or self.transport.playing,
             "loop": self.transport.loop,
+            "sounds": self.sounds(now),
             "robot": {
                 "head_pan_deg": round(math.degrees(state.head_pan), 1),
                 "enabled": robot.enabled,

@@ -13,6 +13,7 @@ import asyncio
 import contextlib
 import io
 import json
+import re
 import sys
 import threading
 import time
@@ -30,6 +31,7 @@ STATIC = Path(__file__).resolve().parent / "static"
 STATUS_EVERY = 0.1  # seconds between status messages to the page
 DISK_EVERY = 0.5  # seconds between looks at the script and the panel on disk
 JPEG_QUALITY = 85
+SOUND_KEY = re.compile(r"[0-9a-f]{16}")  # as `preview.sound_key` makes them
 
 
 def log(message: str) -> None:
@@ -212,6 +214,14 @@ def create_app(workspace: Workspace, renderer: Renderer, fps: float = 30.0, toke
         jpeg = await run_in_threadpool(frames.jpeg, workspace.face())
         return Response(jpeg, media_type="image/jpeg", headers={"cache-control": "no-store"})
 
+    @endpoint
+    async def sound(request: Request) -> Response:
+        key = request.path_params["key"]
+        wav = await run_in_threadpool(workspace.sound, key) if SOUND_KEY.fullmatch(key) else None
+        if wav is None:
+            return JSONResponse({"error": "no such sound in the script or the session"}, 404)
+        return Response(wav, media_type="audio/wav", headers={"cache-control": "private, max-age=3600"})
+
     async def live(websocket: WebSocket) -> None:
         start_pump()
         await websocket.accept()
@@ -233,6 +243,7 @@ def create_app(workspace: Workspace, renderer: Renderer, fps: float = 30.0, toke
     async def run_pump() -> None:
         last_status = last_disk = 0.0
         shown: Any = None
+        heard: Any = []
         while True:
             with contextlib.suppress(asyncio.TimeoutError):
                 await asyncio.wait_for(pump["wake"].wait(), timeout=1.0 / fps)
@@ -243,9 +254,11 @@ def create_app(workspace: Workspace, renderer: Renderer, fps: float = 30.0, toke
                     pages.send(await run_in_threadpool(frames.jpeg, face))
                     shown = face
                 now = time.monotonic()
-                if now - last_status >= STATUS_EVERY:
-                    pages.send(workspace.status())
-                    last_status = now
+                status = workspace.status()
+                # A sound that starts or stops is told at once: the page plays it in step with the frames.
+                if now - last_status >= STATUS_EVERY or status["sounds"] != heard:
+                    pages.send(status)
+                    last_status, heard = now, status["sounds"]
                 if now - last_disk >= DISK_EVERY:
                     last_disk = now
                     for change in await run_in_threadpool(workspace.disk_changes):
@@ -272,6 +285,7 @@ def create_app(workspace: Workspace, renderer: Renderer, fps: float = 30.0, toke
         Route("/api/session/export", export, methods=["POST"]),
         Route("/api/session/clear", clear, methods=["POST"]),
         Route("/api/frame.jpg", frame),
+        Route("/api/sound/{key}.wav", sound),
         WebSocketRoute("/api/live", live),
         Mount("/static", StaticFiles(directory=str(STATIC), check_dir=False), name="static"),
     ]

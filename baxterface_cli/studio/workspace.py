@@ -11,6 +11,7 @@ names a path.
 
 from __future__ import annotations
 
+import io
 import os
 import threading
 import time
@@ -22,11 +23,12 @@ from ..easing import EASINGS
 from ..extras import MissingTool
 from ..parser import decode, parse, read_bounded
 from ..partial import write_atomic
+from ..soundtrack import write_wav
 from ..tables import BROWS, DIRECTIONS, EMOTIONS, MOUTHS
 from ..timeline import Timeline
 from ..vocabulary import BARE_WORDS, KEYWORDS
 from .panel import Button, PanelError, load_panel
-from .preview import Preview
+from .preview import Preview, sound_key
 
 # Words the grammar takes after a keyword; with KEYWORDS, what the editor colours as keywords.
 GRAMMAR_WORDS = ("up", "in", "voice", "rate", "human", "face", "off", "left", "right", "arm")
@@ -49,12 +51,13 @@ def check_text(text: str, filename: str = "<script>") -> List[Dict[str, Any]]:
 
 
 def timeline_json(timeline: Timeline) -> Dict[str, Any]:
-    """The timeline `explain` prints: each statement's span."""
+    """The timeline `explain` prints (each statement's span), and the sounds it will want."""
     spans = [
         {"start": round(s.start, 3), "end": round(s.end, 3), "line": s.line, "text": s.text}
         for s in timeline.spans
     ]
-    return {"duration": round(timeline.duration, 3), "spans": spans}
+    sounds = sorted({sound_key(said.utterance) for said in timeline.speech})
+    return {"duration": round(timeline.duration, 3), "spans": spans, "sounds": sounds}
 
 
 def vocabulary() -> Dict[str, List[str]]:
@@ -227,6 +230,16 @@ class Workspace:
         status["note"] = self.preview_note
         return status
 
+    def sound(self, key: str) -> Optional[bytes]:
+        """The WAV file of an utterance the script or the session says (None for any other key)."""
+        with self.lock:
+            utterance = self.preview.utterance(key)
+        if utterance is None:
+            return None
+        wav = io.BytesIO()
+        write_wav(wav, utterance.samples, utterance.sample_rate)
+        return wav.getvalue()
+
     def face(self):
         """The face to show now (an immutable FaceState)."""
         with self.lock:
@@ -274,5 +287,6 @@ class Workspace:
             "buttons": [b.as_json() for b in self.buttons],
             "timeline": self.timeline(),
             "session": self.session(),
+            "status": self.status(),
             "robot_link": self.robot.as_json(),
         }
