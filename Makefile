@@ -32,10 +32,12 @@ $(VENV)/.installed: pyproject.toml
 	$(BIN)/pip install $(PIP_QUIET) -e '.[$(EXTRAS)]'
 	touch $@
 
-$(VENV38)/.installed: pyproject.toml
+# Pinned to versions known to work on 3.8: unpinned, pip backtracks through old releases for half
+# an hour there.
+$(VENV38)/.installed: pyproject.toml .ci/constraints-py38.txt
 	@test -n "$(PY38)" || { echo "make: no Python 3.8 found (looked in ~/.pyenv/versions/3.8*); set PY38=/path/to/python3.8"; exit 1; }
 	$(PY38) -m venv $(VENV38)
-	$(VENV38)/bin/pip install $(PIP_QUIET) -e '.[$(EXTRAS)]'
+	$(VENV38)/bin/pip install $(PIP_QUIET) -c .ci/constraints-py38.txt -e '.[$(EXTRAS)]'
 	touch $@
 
 # The ROS tests' environment: sees Debian's ROS packages, adds only what they lack.
