@@ -16,6 +16,11 @@ import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
 
+# A shell starts a background job with Ctrl-C ignored, and an ignored signal stays ignored in every
+# program started from it: the tests that press Ctrl-C on `play`, `render` or `studio` would see
+# nothing happen. Handled here, it is back to the default in every program the tests start.
+signal.signal(signal.SIGINT, signal.default_int_handler)
+
 
 class Run:
     def __init__(self, proc: subprocess.CompletedProcess) -> None:
