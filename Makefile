@@ -21,7 +21,7 @@ TEST_PACKAGES := $(ROS_PACKAGES) python3-venv xvfb ffmpeg espeak-ng libespeak-ng
 EXTRAS := test,video,bag,speech,camera,studio
 PIP_QUIET := --quiet --disable-pip-version-check
 
-.PHONY: play test lint format golden theme pictures bench system venv venv38 venv-ros ros clean editor studio
+.PHONY: play test test-python test-ros lint format golden theme pictures bench system venv venv38 venv-ros ros clean editor studio
 
 venv: $(VENV)/.installed
 venv38: $(VENV38)/.installed
@@ -65,9 +65,16 @@ format: venv
 	$(BIN)/ruff check --fix .
 	$(BIN)/ruff format .
 
+# The ROS tests mostly wait on a real master and real time (under one core busy), so they run
+# beside the two Python suites rather than after them; each one's output is printed whole when it ends.
 test: lint system venv venv38 venv-ros
+	$(MAKE) --no-print-directory -j2 --output-sync=target test-python test-ros
+
+test-python: venv venv38
 	$(BIN)/python -m pytest
 	$(VENV38)/bin/python -m pytest -m "not slow and not ros" -p no:cacheprovider
+
+test-ros: venv-ros
 	$(VENV_ROS)/bin/python -m pytest -m ros -p no:cacheprovider -W ignore::DeprecationWarning
 
 # Rewrite the golden files (error output, face images) after a deliberate
