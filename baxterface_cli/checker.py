@@ -6,6 +6,7 @@ tokens are; what needs the whole script happens here.
 
 from __future__ import annotations
 
+import math
 from typing import Any, Dict, Iterator, List, Optional, Sequence, Set, Tuple
 
 from . import nodes as n
@@ -269,9 +270,9 @@ def _exit_line(body: Sequence[Any], ends: Dict[str, int], out: List[Diagnostic])
 
 
 def _duration(seconds: float) -> str:
-    for unit, size in (("hour", 3600), ("minute", 60)):
-        if seconds >= size:
-            count = seconds / size
-            shown = f"{count:.0f}" if count >= 10 or count == int(count) else f"{count:.1f}"
-            return f"{shown} {unit}" + ("" if shown == "1" else "s")
-    return f"{seconds:.3g} s"
+    """`3601` as "1 hour 1 minute": minutes rounded up, so a script over the limit never reads as on it."""
+    if seconds < 60:
+        return f"{seconds:.3g} s"
+    hours, minutes = divmod(math.ceil(seconds / 60), 60)
+    parts = [(hours, "hour"), (minutes, "minute")]
+    return " ".join(f"{n} {unit}" + ("" if n == 1 else "s") for n, unit in parts if n)
