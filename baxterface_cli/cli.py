@@ -85,14 +85,14 @@ def echo_warnings(script: Script) -> None:
         typer.echo(text, err=True)
 
 
-def fitted_theme(theme: Optional[str], size: Optional[str]):
-    """The theme's layers at the asked size, or a clear exit."""
+def fitted_theme(theme: Optional[str], size: Optional[str], command: str):
+    """The theme's layers at the asked size, or a clear exit naming `command`."""
     from .theme import ThemeError, resolve
 
     try:
         return resolve(theme).layers(_size(size) or (1024, 600))
     except ThemeError as e:
-        raise fail(f"baxterface: {e}") from None
+        raise fail(f"baxterface {command}: {e}") from None
 
 
 SCRIPT_ARG = typer.Argument(
@@ -193,7 +193,7 @@ def render(
             "showing the last frame",
             err=True,
         )
-    renderer = Renderer(fitted_theme(theme, size))
+    renderer = Renderer(fitted_theme(theme, size, "render"))
     show_progress = not quiet and sys.stderr.isatty()
     try:
         if show_progress:
@@ -321,7 +321,7 @@ def play(
             "baxterface play: no display and no terminal to play in; "
             "use 'baxterface render SCRIPT --out show.gif' to make a file instead"
         )
-    renderer = Renderer(fitted_theme(theme, size))
+    renderer = Renderer(fitted_theme(theme, size, "play"))
     try:
         animation = animation_for(script, seed, idle, crossfade)
         source = open_source(follow_from) if follow_from is not None else None
@@ -513,7 +513,7 @@ def stream(
     if audio not in SPEAKERS:
         raise fail(f"baxterface stream: --audio must be {AUDIO_CHOICES}, not {audio!r}", 2)
     script = script_from(script_path, inline, "stream")
-    renderer_layers = fitted_theme(theme, size)
+    renderer_layers = fitted_theme(theme, size, "stream")
     _ros_ready("stream")
     from .renderer import Renderer
     from .ros.send import stream as stream_to
@@ -628,7 +628,7 @@ def studio(
         raise fail(f"baxterface studio: {path} is a folder; give a script file", 2)
     if not path.parent.resolve().is_dir():
         raise fail(f"baxterface studio: no folder {path.parent} to keep {path.name} in", 2)
-    renderer = Renderer(fitted_theme(theme, size))
+    renderer = Renderer(fitted_theme(theme, size, "studio"))
     try:
         workspace = Workspace(path, Path(panel) if panel else None, seed, idle, topic=topic)
     except PanelError as e:
@@ -643,24 +643,23 @@ def studio(
     url = url_for(host, sock.getsockname()[1], token)
     made = "" if path.exists() else f" ({path.name} is made on first save)"
     served = create_app(workspace, renderer, fps, token)
-    interrupted = False
-    try:  # from the moment the address is out, Ctrl-C is how the studio stops
+
+    def ready() -> None:
         typer.echo(f"baxterface studio: {url}  editing {path}{made}; Ctrl-C stops", err=True)
         if not no_browser:
             import webbrowser
 
             webbrowser.open(url)
-        serve(served, sock)
-    except KeyboardInterrupt:  # uvicorn stops cleanly, then passes Ctrl-C on
-        interrupted = True
+
+    stopped_by = serve(served, sock, ready)
     if workspace.text != workspace.saved:
         typer.echo(
             f"baxterface studio: stopped; the editor's last changes to {path.name} were not saved", err=True
         )
     else:
         typer.echo("baxterface studio: stopped", err=True)
-    if interrupted:
-        raise typer.Exit(130)
+    if stopped_by is not None:  # the shell's convention: 128 + the signal (130 for Ctrl-C)
+        raise typer.Exit(128 + stopped_by)
 
 
 @app.command()

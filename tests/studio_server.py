@@ -15,14 +15,15 @@ import urllib.error
 import urllib.request
 from contextlib import contextmanager
 from pathlib import Path
-from typing import Any, Dict, Iterator, Optional, Tuple
+from typing import Any, Dict, Iterator, List, Optional, Tuple
 
 URL_LINE = re.compile(r"baxterface studio: (http://\S+)")
 
 
 class Studio:
-    def __init__(self, process: subprocess.Popen, url: str) -> None:
+    def __init__(self, process: subprocess.Popen, url: str, log: Optional[Path] = None) -> None:
         self.process = process
+        self.log_path = log
         self.url = url  # with ?token=... when it has one
         self.base = url.split("?")[0].rstrip("/")
         self.token = url.split("token=")[1] if "token=" in url else None
@@ -46,6 +47,10 @@ class Studio:
     def json(self, method: str, path: str, body: Any = None) -> Tuple[int, Any]:
         status, data = self.request(method, path, body)
         return status, json.loads(data)
+
+    def log(self) -> List[str]:
+        """What the studio has printed so far, a line each."""
+        return self.log_path.read_text(encoding="utf-8").splitlines() if self.log_path else []
 
     def frame(self) -> bytes:
         status, data = self.request("GET", "/api/frame.jpg")
@@ -81,7 +86,7 @@ def running_studio(
                 found = URL_LINE.search(err.read())
                 url = found.group(1) if found else None
                 time.sleep(0.05)
-            yield Studio(process, url)
+            yield Studio(process, url, log)
         finally:
             process.terminate()
             try:

@@ -6,6 +6,7 @@ import io
 import json
 import os
 import re
+import signal
 import socket
 import subprocess
 import sys
@@ -141,6 +142,7 @@ def test_the_default_panel_has_emotions_looks_actions_and_phrases():
     assert any(c.startswith("say ") for c in commands)
     keys = [b.key for b in buttons if b.key]
     assert len(keys) == len(set(keys))
+    assert {"ArrowLeft", "1"} <= set(keys)  # key names and characters both load
 
 
 @pytest.mark.parametrize(
@@ -153,6 +155,10 @@ def test_the_default_panel_has_emotions_looks_actions_and_phrases():
         ),
         ([{"label": "A"}], "needs a command"),
         ("happy", 'a "buttons" list'),
+        (
+            [{"label": "Left", "command": "look left", "key": "Arrowleft"}],
+            'key "Arrowleft" is not one character',
+        ),
     ],
 )
 def test_a_bad_panel_is_refused_with_the_button_named(tmp_path, buttons, message):
@@ -293,12 +299,51 @@ def test_the_studio_refuses_other_hosts_and_other_sites(folder):
 def test_off_loopback_every_request_needs_the_token(folder):
     with running_studio(folder / "show.face", "--host", "0.0.0.0") as studio:
         assert studio.token and len(studio.token) >= 20
-        studio.base = "http://127.0.0.1:" + studio.base.rsplit(":", 1)[1]  # it printed this machine's name
-        assert studio.request("GET", "/api/state", headers={"X-Baxterface-Token": "wrong"})[0] == 403
-        assert studio.request("GET", "/static/app.js", headers={"X-Baxterface-Token": ""})[0] == 403
+        assert not studio.base.startswith(("http://0.0.0.0", "http://127."))  # an address others can reach
+        studio.base = "http://127.0.0.1:" + studio.base.rsplit(":", 1)[1]
+        status, answer = studio.request("GET", "/api/state", headers={"X-Baxterface-Token": "wrong"})
+        assert status == 403 and json.loads(answer)["error"].startswith("the token is wrong")
+        status, answer = studio.request("GET", "/static/app.js", headers={"X-Baxterface-Token": ""})
+        assert status == 403 and json.loads(answer)["error"].startswith("a token is needed")
         assert studio.request("GET", "/api/state")[0] == 200
         status, _ = studio.request("GET", f"/?token={studio.token}", headers={"X-Baxterface-Token": ""})
         assert status == 200
+
+
+def test_bad_requests_are_answered_in_json_and_logged_in_one_line_each(folder):
+    with running_studio(folder / "show.face") as studio:
+        asked = [
+            ("POST", "/api/command", "hapy", {}, 400, "unknown command 'hapy'"),
+            ("GET", "/api/check", None, {}, 405, "GET is not taken here"),
+            ("GET", "/api/nothing", None, {}, 404, "nothing is here"),
+            ("POST", "/api/transport", {"action": "seek", "t": "x"}, {}, 400, "'seek' needs 't'"),
+            ("POST", "/api/transport", {"action": "seek"}, {}, 400, "'seek' needs 't'"),
+            ("POST", "/api/transport", {}, {}, 400, "'action' must be one of play, pause, seek, loop"),
+            ("POST", "/api/transport", {"action": "loop", "on": "yes"}, {}, 400, "'loop' needs 'on'"),
+            ("GET", "/api/state", None, {"Host": "evil.example"}, 403, "loopback only"),
+        ]
+        for method, path, body, headers, code, why in asked:
+            status, answer = studio.request(method, path, body, headers)
+            assert status == code, (path, answer)
+            said = json.loads(answer)
+            assert why in (said["diagnostics"][0]["message"] if "diagnostics" in said else said["error"])
+        assert studio.json("POST", "/api/transport", {"action": "seek", "t": 0.5})[0] == 200  # still serving
+        logged = [line for line in studio.log() if not line.startswith("baxterface studio: http")]
+    assert len(logged) == len(asked)
+    for line, (method, path, _, _, code, why) in zip(logged, asked):
+        assert line.startswith(f"baxterface studio: {method} {path}: {code} ") and why in line
+
+
+def test_sigterm_stops_the_studio_as_ctrl_c_does_and_says_what_was_not_saved(folder):
+    with running_studio(folder / "show.face") as studio:
+        assert studio.json("POST", "/api/script", "sad\n")[0] == 200  # typed, not saved
+        studio.process.send_signal(signal.SIGTERM)
+        assert studio.process.wait(timeout=30) == 128 + signal.SIGTERM
+        assert (
+            studio.log()[-1]
+            == "baxterface studio: stopped; the editor's last changes to show.face were not saved"
+        )
+    assert (folder / "show.face").read_text().startswith("happy")
 
 
 def test_a_missing_extra_gives_one_line(tmp_path):

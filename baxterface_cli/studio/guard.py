@@ -11,6 +11,7 @@ when it is opened with the token.
 from __future__ import annotations
 
 import hmac
+import json
 from http.cookies import SimpleCookie
 from typing import Any, Callable, Dict, Optional
 from urllib.parse import parse_qs, urlsplit
@@ -33,9 +34,10 @@ def _host_name(host: str) -> str:
 class Guard:
     """ASGI middleware: refuses, with 403, what the rules above do not let through."""
 
-    def __init__(self, app: Callable, token: Optional[str]) -> None:
+    def __init__(self, app: Callable, token: Optional[str], log: Callable[[str], None] = print) -> None:
         self.app = app
         self.token = token
+        self.log = log
 
     async def __call__(self, scope: Dict[str, Any], receive: Callable, send: Callable) -> None:
         if scope["type"] not in ("http", "websocket"):
@@ -43,6 +45,7 @@ class Guard:
         headers = {k.decode("latin-1").lower(): v.decode("latin-1") for k, v in scope.get("headers", [])}
         why = self.refusal(scope, headers)
         if why is not None:
+            self.log(f"{scope.get('method', 'WEBSOCKET')} {scope.get('path', '')}: 403 {why}")
             return await _refuse(scope, receive, send, why)
         if self.token is not None and scope["type"] == "http" and self._query_token(scope):
 
@@ -65,8 +68,10 @@ class Guard:
                 return "this studio answers on loopback only"
             return None
         offered = self._query_token(scope) or headers.get("x-baxterface-token") or _cookie(headers)
-        if not offered or not hmac.compare_digest(offered, self.token):
+        if not offered:
             return "a token is needed: open the address the studio printed, with its ?token="
+        if not hmac.compare_digest(offered.encode("utf-8", "replace"), self.token.encode()):
+            return "the token is wrong: open the address the studio printed, with its ?token="
         return None
 
     @staticmethod
@@ -89,13 +94,13 @@ async def _refuse(scope: Dict[str, Any], receive: Callable, send: Callable, why:
     if scope["type"] == "websocket":
         await send({"type": "websocket.close", "code": 1008, "reason": why[:120]})
         return
-    body = why.encode() + b"\n"
+    body = json.dumps({"error": why}).encode()
     await send(
         {
             "type": "http.response.start",
             "status": 403,
             "headers": [
-                (b"content-type", b"text/plain; charset=utf-8"),
+                (b"content-type", b"application/json"),
                 (b"content-length", str(len(body)).encode()),
             ],
         }

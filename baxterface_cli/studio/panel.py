@@ -8,6 +8,7 @@ pressed.
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 from typing import List, NamedTuple, Optional, Union
 
@@ -56,6 +57,14 @@ def load_panel(path: Union[None, str, Path] = None) -> List[Button]:
     return buttons
 
 
+# The browser's names (KeyboardEvent.key) of the keys a shortcut may be, besides one character.
+FUNCTION_KEYS = frozenset(f"F{n}" for n in range(1, 13))
+KEY_NAMES = FUNCTION_KEYS | {
+    "ArrowLeft", "ArrowRight", "ArrowUp", "ArrowDown", "Enter", "Escape", "Tab", "Backspace",
+    "Delete", "Insert", "Home", "End", "PageUp", "PageDown",
+}  # fmt: skip
+
+
 def _button(entry: object, path: Path, number: int) -> Button:
     if not isinstance(entry, dict):
         raise PanelError(f"{path}: button {number} must be an object with a label and a command")
@@ -68,8 +77,11 @@ def _button(entry: object, path: Path, number: int) -> Button:
     for name, value in (("label", label), ("group", group)):
         if not isinstance(value, str) or not value.strip():
             raise PanelError(f"{path}: button {number}: {name} must be a non-empty string")
-    if key is not None and (not isinstance(key, str) or not key or len(key) > 20 or " " in key.strip()):
-        raise PanelError(f"{path}: button {label!r}: key must be one character or a key name like ArrowLeft")
+    if key is not None and not (isinstance(key, str) and (len(key) == 1 or key in KEY_NAMES)):
+        raise PanelError(
+            f"{path}: button {label!r}: key {json.dumps(key)} is not one character or a key name"
+            f" ({', '.join(sorted(KEY_NAMES - FUNCTION_KEYS))}, F1 to F12)"
+        )
     try:
         parse(command, f"{path} (button {label!r})")
     except ScriptError as e:

@@ -85,6 +85,7 @@ def create_app(workspace: Workspace, renderer: Renderer, fps: float = 30.0, toke
     """The studio's ASGI application."""
     from starlette.applications import Starlette
     from starlette.concurrency import run_in_threadpool
+    from starlette.exceptions import HTTPException
     from starlette.requests import Request
     from starlette.responses import FileResponse, JSONResponse, Response
     from starlette.routing import Mount, Route, WebSocketRoute
@@ -122,14 +123,16 @@ def create_app(workspace: Workspace, renderer: Renderer, fps: float = 30.0, toke
         async def wrapped(request: Request) -> Response:
             start_pump()
             try:
-                return await handler(request)
+                response = await handler(request)
             except TooLarge:
-                return JSONResponse({"error": f"too large: the limit is {LIMITS.max_bytes} bytes"}, 413)
+                response = JSONResponse({"error": f"too large: the limit is {LIMITS.max_bytes} bytes"}, 413)
             except BadRequest as e:
-                return JSONResponse({"error": str(e)}, 400)
+                response = JSONResponse({"error": str(e)}, 400)
             except Exception as e:  # logged and answered; the studio carries on
-                log(f"{request.url.path}: {type(e).__name__}: {e}")
-                return JSONResponse({"error": f"{type(e).__name__}: {e}"}, 500)
+                response = JSONResponse({"error": f"{type(e).__name__}: {e}"}, 500)
+            if response.status_code >= 400:
+                log(f"{request.method} {request.url.path}: {response.status_code} {_reason(response)}")
+            return response
 
         return wrapped
 
@@ -182,11 +185,16 @@ def create_app(workspace: Workspace, renderer: Renderer, fps: float = 30.0, toke
     @endpoint
     async def transport(request: Request) -> Response:
         body = await body_json(request)
-        try:
-            t = float(body.get("t", 0.0))
-            status = workspace.transport(str(body.get("action")), t, bool(body.get("on", False)))
-        except (TypeError, ValueError) as e:
-            raise BadRequest(str(e)) from None
+        action, on = body.get("action"), body.get("on", False)
+        if action not in TRANSPORT_ACTIONS:
+            raise BadRequest(
+                f"'action' must be one of {', '.join(TRANSPORT_ACTIONS)}, not {json.dumps(action)}"
+            )
+        if action == "seek" and not _is_number(body.get("t")):
+            raise BadRequest(f"'seek' needs 't', the script time in seconds, not {json.dumps(body.get('t'))}")
+        if action == "loop" and not isinstance(on, bool):
+            raise BadRequest(f"'loop' needs 'on', true or false, not {json.dumps(on)}")
+        status = workspace.transport(action, float(body.get("t") or 0.0), on)
         wake()
         return JSONResponse(status)
 
@@ -289,7 +297,15 @@ def create_app(workspace: Workspace, renderer: Renderer, fps: float = 30.0, toke
         WebSocketRoute("/api/live", live),
         Mount("/static", StaticFiles(directory=str(STATIC), check_dir=False), name="static"),
     ]
-    return Guard(Starlette(routes=routes), token)
+
+    async def not_here(request: Request, exc: Exception) -> Response:
+        """Starlette's own 404 and 405, answered in JSON like the rest and logged."""
+        code = getattr(exc, "status_code", 404)
+        why = f"{request.method} is not taken here" if code == 405 else "nothing is here"
+        log(f"{request.method} {request.url.path}: {code} {why}")
+        return JSONResponse({"error": why}, code)
+
+    return Guard(Starlette(routes=routes, exception_handlers={HTTPException: not_here}), token, log)
 
 
 class TooLarge(Exception):
@@ -300,17 +316,66 @@ class BadRequest(Exception):
     pass
 
 
+TRANSPORT_ACTIONS = ("play", "pause", "seek", "loop")
+
+
+def _is_number(value: Any) -> bool:
+    return isinstance(value, (int, float)) and not isinstance(value, bool) and abs(value) < float("inf")
+
+
+def _reason(response: Any) -> str:
+    """What an error answer says, for the log: its error, or its first diagnostic."""
+    try:
+        answer = json.loads(bytes(response.body))
+        if "diagnostics" in answer:
+            first = answer["diagnostics"][0]
+            place = f"{first['line']}:{first['column']}: " if first["line"] else ""
+            return f"{place}{first['message']}"
+        return str(answer["error"])
+    except (ValueError, KeyError, IndexError, TypeError, AttributeError):
+        return "(no reason given)"
+
+
 def _problem(message: str) -> Dict[str, Any]:
     """A diagnostic with no place in the text."""
     return {"line": 0, "column": 0, "severity": "error", "message": message}
 
 
-def serve(app: Any, sock: Any) -> None:
-    """Run `app` on the bound socket until Ctrl-C."""
+def serve(app: Any, sock: Any, ready: Callable[[], None]) -> Optional[int]:
+    """Run `app` on the bound socket until Ctrl-C or SIGTERM; returns the signal that stopped it.
+
+    `ready` is called once the server answers. A signal never interrupts the
+    set-up (under Python 3.8, Ctrl-C inside logging's set-up broke a lock): one
+    that comes before uvicorn takes the signals over is kept, and stops the
+    server as soon as it is up; uvicorn hands back the ones it caught the same way.
+    """
+    import signal
+
     import uvicorn
 
-    config = uvicorn.Config(app, log_level="warning", lifespan="off", ws_max_size=4 * 1024 * 1024)
-    uvicorn.Server(config).run(sockets=[sock])
+    stops: list = []
+
+    def keep(signum: int, frame: Any) -> None:
+        stops.append(signum)
+
+    handled = (signal.SIGINT, signal.SIGTERM)
+    before = {signum: signal.signal(signum, keep) for signum in handled}
+
+    class Server(uvicorn.Server):
+        async def startup(self, sockets: Any = None) -> None:
+            await super().startup(sockets=sockets)
+            if stops:
+                self.should_exit = True
+            elif not self.should_exit:
+                ready()
+
+    try:
+        config = uvicorn.Config(app, log_level="warning", lifespan="off", ws_max_size=4 * 1024 * 1024)
+        Server(config).run(sockets=[sock])
+    finally:
+        for signum, handler in before.items():
+            signal.signal(signum, handler)
+    return stops[0] if stops else None
 
 
 def bind(host: str, port: int) -> Any:
@@ -332,11 +397,22 @@ def bind(host: str, port: int) -> Any:
     return sock
 
 
-def url_for(host: str, port: int, token: Optional[str]) -> str:
-    """The address to open: this machine's name when serving on every address."""
+def this_machine() -> str:
+    """This machine's address on its network (where its default route leaves), else its name."""
     import socket
 
+    try:
+        with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as probe:
+            probe.connect(("192.0.2.1", 9))  # a documentation address: connecting UDP sends nothing
+            address = probe.getsockname()[0]
+    except OSError:  # no route at all
+        address = ""
+    return address if address and not address.startswith(("127.", "0.")) else socket.gethostname()
+
+
+def url_for(host: str, port: int, token: Optional[str]) -> str:
+    """The address to open; serving on every address, the one the lab's other machines reach."""
     if host in ("0.0.0.0", "::", ""):
-        host = socket.gethostname()
+        host = this_machine()
     shown = f"[{host}]" if ":" in host else host
     return f"http://{shown}:{port}/" + (f"?token={token}" if token else "")

@@ -90,7 +90,7 @@ class Session:
         """The runnable script of `presses`, with a header saying how to replay it as `filename`."""
         header = [
             f"# baxterface studio session{', ' + self.began_at if self.began_at else ''}: "
-            f"{len(presses)} presses",
+            f"{len(presses)} press" + ("" if len(presses) == 1 else "es"),
             f"# replays exactly with: baxterface play {filename or self.filename} --seed {self.seed}",
         ]
         return "\n".join(header + _body(presses)) + "\n"
