@@ -28,6 +28,7 @@ from typing import List, Tuple
 import numpy as np
 import pexpect
 import pytest
+from test_play import spawn_play
 
 from baxterface_cli.audio import LOOKAHEAD, Mixer, SoundOut, SpeechCues, _open_device, open_sound, resample
 from conftest import ROOT
@@ -136,11 +137,24 @@ def card(tmp_path):
     made.stop()
 
 
-def find(recording: np.ndarray, sound: np.ndarray) -> int:
-    """Where `sound` best matches in `recording` (cross-correlation)."""
+def correlation(recording: np.ndarray, sound: np.ndarray) -> np.ndarray:
+    """How well `sound` matches `recording` from each of its samples on (cross-correlation)."""
     n = 1 << int(np.ceil(np.log2(len(recording) + len(sound))))
     spectrum = np.fft.rfft(recording.astype(float), n) * np.conj(np.fft.rfft(sound.astype(float), n))
-    return int(np.argmax(np.fft.irfft(spectrum, n)[: len(recording)]))
+    return np.fft.irfft(spectrum, n)[: len(recording)]
+
+
+def find(recording: np.ndarray, sound: np.ndarray) -> int:
+    """Where `sound` best matches in `recording`."""
+    return int(np.argmax(correlation(recording, sound)))
+
+
+def spoken(text: str) -> np.ndarray:
+    """What espeak-ng says for `text` in the default voice, as `play` says it."""
+    from baxterface_cli.speech import engine
+    from baxterface_cli.voices import DEFAULT_RATE, DEFAULT_VOICE
+
+    return engine().say(text, DEFAULT_VOICE, DEFAULT_RATE).samples
 
 
 def levels(samples: np.ndarray) -> List[Tuple[int, int]]:
@@ -155,19 +169,8 @@ def levels(samples: np.ndarray) -> List[Tuple[int, int]]:
 
 
 def test_play_speaks_the_utterance_when_the_picture_starts_saying_it(card):
-    from baxterface_cli.speech import engine
-    from baxterface_cli.voices import DEFAULT_RATE, DEFAULT_VOICE
-
     text = "Hello there, I am Baxter."
-    child = pexpect.spawn(
-        sys.executable,
-        ["-m", "baxterface_cli", "play", "--terminal", "--no-idle", "-e", f'wait 0.5s; say "{text}"'],
-        cwd=str(ROOT),
-        dimensions=(24, 80),
-        encoding="utf-8",
-        timeout=30,
-        env=card.env(),
-    )
+    child = spawn_play("-e", f'wait 0.5s; say "{text}"', env=card.env())
     child.expect(r"0\.0/")  # the first frame: what came before it is out of the way
     child.expect("saying")
     seen = time.monotonic()  # the first frame with the speaking mouth, as it reaches the terminal
@@ -178,7 +181,7 @@ def test_play_speaks_the_utterance_when_the_picture_starts_saying_it(card):
     card.drain()
     recording = card.samples()
 
-    utterance = engine().say(text, DEFAULT_VOICE, DEFAULT_RATE).samples
+    utterance = spoken(text)
     at = find(recording, utterance)
     assert np.array_equal(recording[at : at + len(utterance)], utterance)  # sample for sample, all of it
     # Its first sample is heard as its frame is shown: within two frames (30 fps), and some time for
@@ -187,20 +190,9 @@ def test_play_speaks_the_utterance_when_the_picture_starts_saying_it(card):
 
 
 def test_play_loop_says_it_again_each_lap(card):
-    from baxterface_cli.speech import engine
-    from baxterface_cli.voices import DEFAULT_RATE, DEFAULT_VOICE
-
-    utterance = engine().say("Loop", DEFAULT_VOICE, DEFAULT_RATE).samples
+    utterance = spoken("Loop")
     lap = len(utterance) / RATE + 0.3
-    child = pexpect.spawn(
-        sys.executable,
-        ["-m", "baxterface_cli", "play", "--terminal", "--no-idle", "--loop", "-e", 'say "Loop"; wait 0.3s'],
-        cwd=str(ROOT),
-        dimensions=(24, 80),
-        encoding="utf-8",
-        timeout=30,
-        env=card.env(),
-    )
+    child = spawn_play("--loop", "-e", 'say "Loop"; wait 0.3s', env=card.env())
     child.expect(r"/0\.7s")  # playing
     child.expect(pexpect.TIMEOUT, timeout=3 * lap)  # three laps and a bit, reading the screen all the while
     child.sendintr()
@@ -209,29 +201,17 @@ def test_play_loop_says_it_again_each_lap(card):
     assert child.exitstatus == 130
     card.drain()
     recording = card.samples()
-    n = 1 << int(np.ceil(np.log2(len(recording) + len(utterance))))
-    match = np.fft.irfft(np.fft.rfft(recording, n) * np.conj(np.fft.rfft(utterance.astype(float), n)), n)
-    starts = np.flatnonzero(match[: len(recording)] > 0.99 * float(np.sum(utterance.astype(float) ** 2)))
+    match = correlation(recording, utterance)
+    starts = np.flatnonzero(match > 0.99 * float(np.sum(utterance.astype(float) ** 2)))
     assert len(starts) >= 3
     assert np.diff(starts) / RATE == pytest.approx([lap] * (len(starts) - 1), abs=0.005)  # every lap, in step
 
 
 def test_ctrl_c_silences_the_words_being_said(card):
-    from baxterface_cli.speech import engine
-    from baxterface_cli.voices import DEFAULT_RATE, DEFAULT_VOICE
-
     text = "I will keep on talking for a good few seconds, so that there is time to stop me."
-    utterance = engine().say(text, DEFAULT_VOICE, DEFAULT_RATE).samples
+    utterance = spoken(text)
     length = len(utterance) / RATE  # over four seconds: cut off and finished differ by seconds
-    child = pexpect.spawn(
-        sys.executable,
-        ["-m", "baxterface_cli", "play", "--terminal", "--no-idle", "-e", f'say "{text}"'],
-        cwd=str(ROOT),
-        dimensions=(24, 80),
-        encoding="utf-8",
-        timeout=30,
-        env=card.env(),
-    )
+    child = spawn_play("-e", f'say "{text}"', env=card.env())
     deadline = time.monotonic() + 20
     while not np.any(card.samples()) and time.monotonic() < deadline:  # the first words are heard
         child.expect([pexpect.TIMEOUT, pexpect.EOF], timeout=0.02)  # reading the screen all the while
@@ -296,18 +276,6 @@ def test_sounds_played_together_are_mixed_and_skip_cuts_or_delays(card):
     assert not recording[start + 2205 :].any()
 
 
-def spawn_play(script: str, env: dict):
-    return pexpect.spawn(
-        sys.executable,
-        ["-m", "baxterface_cli", "play", "--terminal", "--no-idle", "-e", script],
-        cwd=str(ROOT),
-        dimensions=(24, 80),
-        encoding="utf-8",
-        timeout=30,
-        env=env,
-    )
-
-
 def test_without_a_device_play_says_so_once_and_plays_on(tmp_path):
     have_sounddevice()
     cards = Path("/proc/asound/cards")
@@ -318,7 +286,7 @@ def test_without_a_device_play_says_so_once_and_plays_on(tmp_path):
     (home / ".asoundrc").write_text('pcm.!default { type hw; card "NoSuchCard" }\n')
     env = dict(os.environ, HOME=str(home), TERM="xterm-256color")
     env.pop("XDG_CONFIG_HOME", None)
-    child = spawn_play('say "Hi"; blink', env)
+    child = spawn_play("-e", 'say "Hi"; blink', env=env)
     child.expect(pexpect.EOF)
     child.close()
     assert child.exitstatus == 0
@@ -345,7 +313,7 @@ def no_sounddevice(tmp_path):
 
 def test_without_sounddevice_play_says_what_to_install_once(no_sounddevice):
     env, mark = no_sounddevice
-    child = spawn_play('say "Hi"; say "there"', env)
+    child = spawn_play("-e", 'say "Hi"; say "there"', env=env)
     child.expect(pexpect.EOF)
     child.close()
     assert child.exitstatus == 0 and mark.exists()
@@ -359,7 +327,7 @@ def test_without_sounddevice_play_says_what_to_install_once(no_sounddevice):
 
 def test_a_script_that_says_nothing_never_looks_for_a_device(no_sounddevice):
     env, mark = no_sounddevice
-    child = spawn_play("happy; blink", env)
+    child = spawn_play("-e", "happy; blink", env=env)
     child.expect(pexpect.EOF)
     child.close()
     assert child.exitstatus == 0
