@@ -34,7 +34,7 @@ def _host_name(host: str) -> str:
 class Guard:
     """ASGI middleware: refuses, with 403, what the rules above do not let through."""
 
-    def __init__(self, app: Callable, token: Optional[str], log: Callable[[str], None] = print) -> None:
+    def __init__(self, app: Callable, token: Optional[str], log: Callable[[str], None]) -> None:
         self.app = app
         self.token = token
         self.log = log
