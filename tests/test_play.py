@@ -34,6 +34,8 @@ def spawn_play(*args, env=None):
         cwd=str(ROOT),
         dimensions=(32, 100),
         encoding="utf-8",
+        # The terminal echoes a Ctrl-C where it lands, even inside a half-written block character.
+        codec_errors="replace",
         timeout=30,
         env=env or dict(os.environ, TERM="xterm-256color"),
     )
