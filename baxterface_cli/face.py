@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 import random
 from pathlib import Path
-from typing import Optional, Tuple, Union
+from typing import List, Optional, Tuple, Union
 
 import numpy as np
 from PIL import Image
@@ -30,6 +30,11 @@ def emotion_state(state: FaceState, name: str, variant: int) -> FaceState:
     spec = EMOTIONS[name]
     mouth, brows = spec.variants[variant]
     return state.replace(skin=spec.skin, mouth=mouth, brows=brows, eyelids=spec.eyelids, fade_from=None)
+
+
+def emotion_variants(name: str) -> List[Tuple[str, str]]:
+    """The (mouth, brows) pairs of emotion `name`, in the order `set_emotion`'s `variant` counts them."""
+    return list(EMOTIONS[_check(name.replace("_", " "), tuple(EMOTIONS), "emotion")].variants)
 
 
 def _check(value: str, choices: Tuple[str, ...], what: str) -> str:

@@ -15,6 +15,7 @@ import pytest
 from baxterface_cli import parse
 from baxterface_cli.vocabulary import BARE_WORDS, LEGACY_USAGE
 from conftest import free_port
+from doc_blocks import DOCS, fenced_blocks, python_examples
 
 pytestmark = pytest.mark.language
 
@@ -23,23 +24,8 @@ DOC = (ROOT / "docs" / "language.md").read_text(encoding="utf-8")
 README = (ROOT / "README.md").read_text(encoding="utf-8")
 
 
-def fenced_blocks(text):
-    """(language tag, body) of each fenced block, in order."""
-    blocks, tag, lines = [], None, []
-    for line in text.splitlines():
-        if line.startswith("```"):
-            if tag is None:
-                tag, lines = line[3:].strip(), []
-            else:
-                blocks.append((tag, "\n".join(lines)))
-                tag = None
-        elif tag is not None:
-            lines.append(line)
-    return blocks
-
-
 # Untagged blocks are face scripts; console, python and text blocks are not.
-SCRIPT_BLOCKS = [body for tag, body in fenced_blocks(DOC) + fenced_blocks(README) if tag == ""]
+SCRIPT_BLOCKS = [block.body for block in fenced_blocks(DOC) + fenced_blocks(README) if block.tag == ""]
 LEGACY_ROWS = re.findall(r"^\| `([a-z0-9_.-]+)` \| `([^`]+)` \|$", DOC, re.M)
 
 
@@ -62,7 +48,6 @@ def test_the_legacy_table_is_right_and_complete():
 
 # -- console examples: each command runs, and prints what the docs show ----
 
-DOCS = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
 # Commands these examples leave to other tests: `make` is the set-up that CI
 # itself runs; ROS commands run against a real master in tests/test_ros.py.
 ELSEWHERE = ("make ", "baxterface node", "baxterface send", "baxterface stream", "rostopic ", "roslaunch ")
@@ -72,10 +57,10 @@ def console_examples(paths=DOCS):
     """(doc, command, expected output lines) for every `$ ` line of every console block."""
     out = []
     for path in paths:
-        for tag, body in fenced_blocks(path.read_text(encoding="utf-8")):
-            if tag != "console":
+        for block in fenced_blocks(path.read_text(encoding="utf-8")):
+            if block.tag != "console":
                 continue
-            for line in body.splitlines():
+            for line in block.body.splitlines():
                 if line.startswith("$ "):
                     command = re.sub(r"\s{2,}#.*$", "", line[2:]).strip()
                     out.append([path.name, command, []])
@@ -209,3 +194,30 @@ def break_a_theme(folder):
 def test_the_console_examples_are_found():
     commands = [c for _, c, _ in console_examples()]
     assert "baxterface explain hello.face" in commands and len(LOCAL) >= 8
+
+
+# -- Python examples: each runs, and prints what the docs show ----------------
+
+# Blocks that need rospy run against a real master in tests/test_docs_ros.py.
+PYTHON = [e for e in python_examples() if "import rospy" not in e.code]
+
+
+@pytest.mark.parametrize("example", PYTHON, ids=[f"{e.doc}: python {e.number}" for e in PYTHON])
+def test_python_examples_run_and_print_what_the_docs_show(example, doc_folder):
+    for command in example.setup:  # what an earlier step of the doc made, as `theme export`
+        subprocess.run(command, shell=True, cwd=str(doc_folder), env=doc_env(), capture_output=True)
+    program = doc_folder / "example.py"
+    program.write_text(example.code, encoding="utf-8")
+    run = subprocess.run(
+        [sys.executable, str(program)], cwd=str(doc_folder), env=doc_env(), capture_output=True, text=True
+    )
+    assert run.returncode == 0, run.stderr
+    if example.expected is not None:
+        printed = run.stdout.rstrip("\n")
+        assert matches(example.expected, printed.splitlines() if printed else []), printed
+
+
+def test_the_python_examples_are_found():
+    docs = {e.doc for e in python_examples()}
+    assert {"README.md", "api.md", "language.md", "speech.md", "themes.md"} <= docs
+    assert sum(1 for e in python_examples() if e.expected) >= 3
