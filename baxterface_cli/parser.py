@@ -281,7 +281,7 @@ def _parse_recovering(text: str, diagnostics: List[Diagnostic]) -> Optional[List
                         Diagnostic(0, 0, f"stopped after {errors} syntax errors", kind="syntax")
                     )
                     return None
-                repaired = _blank_statement(chunk, e)
+                repaired = _blank_statement(chunk, e, lambda word: _stands_alone(parser, word))
                 if repaired is None:
                     return None
                 chunk = repaired
@@ -331,14 +331,25 @@ def _offset(e: UnexpectedInput) -> Optional[int]:
 _SEPARATORS = ";\n{}"
 
 
-def _blank_statement(text: str, e: UnexpectedInput) -> Optional[str]:
-    """`text` with the statement around the error blanked out, or None."""
+_LEADING_WORD = re.compile(r"[ \t]*([A-Za-z][\w-]*)(?=[ \t])")
+
+
+def _blank_statement(text: str, e: UnexpectedInput, stands_alone: Callable[[str], bool]) -> Optional[str]:
+    """`text` with the statement around the error blanked out, or None.
+
+    A first word that is a statement by itself (`wink` of `wink left`) is
+    kept, so that the checker still says what is wrong with it: one run shows
+    every problem of the line.
+    """
     at = _offset(e)
     if at is None or at >= len(text):  # the end of the text: nothing after it to save
         return None
     start = max(text.rfind(c, 0, at) for c in _SEPARATORS) + 1
     if start > at:
         start = at
+    kept = _LEADING_WORD.match(text, start, at)
+    if kept is not None and stands_alone(kept.group(1)):
+        start = kept.end()
     end = at
     while end < len(text) and text[end] not in _SEPARATORS:
         end += 1
@@ -350,9 +361,22 @@ def _blank_statement(text: str, e: UnexpectedInput) -> Optional[str]:
     filler = "".join(c if c in "\r\n" else " " for c in region)
     # A placeholder statement keeps a block that held only this one from
     # being reported as empty as well.
-    if len(filler) >= 5 and "\n" not in filler[:5]:
+    if kept is None and len(filler) >= 5 and "\n" not in filler[:5]:
         filler = "blink" + filler[5:]
     return text[:start] + filler + text[end:]
+
+
+def _stands_alone(parser: _Parser, word: str) -> bool:
+    """Does `word` parse as a whole statement (a command with no arguments)?"""
+    builder = parser.builder
+    kept, builder.diagnostics = builder.diagnostics, []
+    try:
+        parser.lark.parse(word)
+    except UnexpectedInput:
+        return False
+    finally:
+        builder.diagnostics = kept
+    return True
 
 
 def _matching_brace(text: str, opening: int) -> int:

@@ -198,6 +198,21 @@ def test_every_error_is_reported_not_only_the_first():
     assert [f[0] for f in found] == [1, 2, 3, 4]
 
 
+def test_an_unknown_command_is_reported_beside_a_syntax_error_on_its_line():
+    found = errors("happy\nwink left\nrepeat 2 { hapy 3 }")
+    assert found == [
+        (2, 1, "unknown command 'wink'; did you mean 'blink'?"),
+        (2, 6, "unexpected 'left'; expected ';', '}' or a new line"),
+        (3, 12, "unknown command 'hapy'; did you mean 'happy'?"),
+        (3, 17, "unexpected '3'; expected ';', '}' or a new line"),
+    ]
+    # A known word stays quiet: only what is really wrong is said.
+    assert errors("define wink { blink }\nwink left; happy 3") == [
+        (2, 6, "unexpected 'left'; expected ';', '}' or a new line"),
+        (2, 18, "unexpected '3'; expected ';', '}' or a new line"),
+    ]
+
+
 def test_repeat_and_define_limits_follow_through_definitions():
     # 100 x 100 x 100 one-second waits: an hour is passed only once unrolled.
     text = "define a { wait 1s }\ndefine b { repeat 100 { a } }\nrepeat 100 { repeat 100 { b } }"
