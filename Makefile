@@ -16,19 +16,35 @@ ROS_PACKAGES := ros-core python3-rospy python3-cv-bridge python3-sensor-msgs pyt
 # the `ffmpeg` program is what `render` falls back to without PyAV; espeak-ng speaks `say`;
 # PortAudio is what `play` sounds through; sox reads the sounds in the tests; chromium and its
 # driver load the studio's page in the browser tests.
-TEST_PACKAGES := $(ROS_PACKAGES) python3-venv xvfb ffmpeg espeak-ng libespeak-ng1 libportaudio2 sox \
-	chromium chromium-driver
+# What `make play` needs to be heard: espeak-ng speaks `say`, PortAudio is the sound device.
+PLAY_PACKAGES := espeak-ng libespeak-ng1 libportaudio2
+TEST_PACKAGES := $(ROS_PACKAGES) $(PLAY_PACKAGES) python3-venv xvfb ffmpeg sox chromium chromium-driver
+# `make play` installs what playing needs; `make studio` adds the studio; the tests take everything.
+PLAY_EXTRAS := speech
+STUDIO_EXTRAS := speech,studio
 EXTRAS := test,video,bag,speech,camera,studio
 PIP_QUIET := --quiet --disable-pip-version-check
 
-.PHONY: play test test-python test-ros lint format golden theme pictures bench system venv venv38 venv-ros ros clean editor studio
+.PHONY: play test test-python test-ros lint format golden theme pictures bench system system-play venv \
+	venv-play venv-studio venv38 venv-ros ros clean editor studio
 
+# `venv` is the full one the tests, lint and benchmarks use; play and studio make smaller ones first.
 venv: $(VENV)/.installed
+venv-play: $(VENV)/.play
+venv-studio: $(VENV)/.studio
 venv38: $(VENV38)/.installed
 venv-ros: $(VENV_ROS)/.installed
 
-$(VENV)/.installed: pyproject.toml
+$(VENV)/.play: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
+	$(BIN)/pip install $(PIP_QUIET) -e '.[$(PLAY_EXTRAS)]'
+	touch $@
+
+$(VENV)/.studio: $(VENV)/.play
+	$(BIN)/pip install $(PIP_QUIET) -e '.[$(STUDIO_EXTRAS)]'
+	touch $@
+
+$(VENV)/.installed: $(VENV)/.play
 	$(BIN)/pip install $(PIP_QUIET) -e '.[$(EXTRAS)]'
 	touch $@
 
@@ -56,6 +72,13 @@ system:
 		ls /usr/lib/*/libportaudio.so.2 >/dev/null 2>&1 || { \
 		$(SUDO) apt-get update -qq && \
 		$(SUDO) env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $(TEST_PACKAGES) >/dev/null; }
+
+# What `make play` needs to be heard; a machine where it cannot be installed plays the show silently.
+system-play:
+	@command -v espeak-ng >/dev/null 2>&1 && ls /usr/lib/*/libportaudio.so.2 >/dev/null 2>&1 || { \
+		$(SUDO) apt-get update -qq && \
+		$(SUDO) env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $(PLAY_PACKAGES) >/dev/null; } || \
+		echo "make: could not install $(PLAY_PACKAGES); the show plays, but says nothing"
 
 lint: venv
 	$(BIN)/ruff check .
@@ -108,11 +131,11 @@ ros: venv-ros
 	@echo "ROS is ready: .venv-ros/bin/baxterface node (and send, stream, buttons)"
 
 # Plays in a window where there is a display, else in this terminal.
-play: venv
+play: venv-play system-play
 	$(BIN)/baxterface play scripts_examples/show.face
 
 # The studio on the example script, in this machine's browser.
-studio: venv
+studio: venv-studio system-play
 	$(BIN)/baxterface studio scripts_examples/show.face
 
 # Rebuild the studio's editor (CodeMirror, from npm) into baxterface_cli/studio/static/editor.js;
