@@ -122,6 +122,34 @@ CROSSFADE_OPT = typer.Option(
 )
 
 
+FOLLOW_FROM_OPT = typer.Option(
+    None,
+    "--follow-from",
+    metavar="FILE",
+    help="What following sees, instead of the robot's sensors: a trace (.jsonl: sonar, hands) "
+    "or camera images (a video or a picture).",
+)
+
+
+def following_from(path: Optional[str], animation, command: str, say):
+    """The rehearsal that follows what FILE shows (`--follow-from`), or None without one.
+
+    `say` takes a warning line; a file that cannot be used is a clear exit 1.
+    """
+    if path is None:
+        return None
+    from .effects import Follow
+    from .rehearsal import FollowSourceError, Rehearsal, open_source
+
+    try:
+        source = open_source(path)
+    except (MissingTool, FollowSourceError) as e:
+        raise fail(f"baxterface {command}: {e}") from None
+    if not any(isinstance(cue.effect, Follow) for cue in animation.timeline.cues):
+        say(f"baxterface {command}: the script follows nothing, so --follow-from changes nothing")
+    return Rehearsal(source, lambda message: say(f"baxterface {command}: {message}"))
+
+
 def animation_for(script: Script, seed: Optional[int], idle: bool, crossfade: Optional[float]):
     from .idle import Animation
     from .timeline import compile_script
@@ -158,6 +186,7 @@ def render(
     robot: str = typer.Option(
         "baxter", "--robot", metavar="NAME", help="For a .bag: baxter (/robot/xdisplay) or sawyer."
     ),
+    follow_from: Optional[str] = FOLLOW_FROM_OPT,
 ) -> None:
     """Render a script to a video, an animation, a ROS bag or image files.
 
@@ -166,7 +195,8 @@ def render(
     play` replays on the robot; .wav the speech alone; a .png gets one frame,
     the last or the one at --at; PATH ending
     in '/' (or an existing folder) gets frame_00000.png, ... Files appear only
-    once complete.
+    once complete. A script that follows someone follows them in FILE with
+    --follow-from, as `play` shows it.
     """
     from .formats import FormatError, format_for
     from .renderer import Renderer
@@ -187,6 +217,7 @@ def render(
             f"must be {' or '.join(DISPLAY_TOPICS)}, not {robot!r}", param_hint="--robot"
         )
     animation = animation_for(script_from(script_path, inline, "render"), seed, idle, crossfade)
+    follow = following_from(follow_from, animation, "render", lambda line: typer.echo(line, err=True))
     if at is not None and at > animation.duration:
         typer.echo(
             f"baxterface render: --at {at:g} is past the script's end ({animation.duration:.2f} s); "
@@ -209,9 +240,10 @@ def render(
                     at,
                     lambda done, total: bar.update(task, completed=done, total=total),
                     robot,
+                    follow,
                 )
         else:
-            count = render_to(animation, renderer, out, fps, at, robot=robot)
+            count = render_to(animation, renderer, out, fps, at, robot=robot, follow=follow)
     except MissingTool as e:
         raise fail(f"baxterface render: {e}") from None
     except FormatError as e:
@@ -234,13 +266,18 @@ def explain(
     seed: int = typer.Option(DEFAULT_SEED, "--seed", help=SEED_HELP),
     idle: bool = typer.Option(False, "--idle", help="Include idle blinks and eye darts (--json)."),
     crossfade: Optional[float] = CROSSFADE_OPT,
+    grouped: bool = typer.Option(
+        False, "--grouped", help="Statements first, then face changes, robot commands and words."
+    ),
 ) -> None:
     """Explain a script's timeline: what starts and ends when.
 
-    With --json, print one record per frame with the whole face state (skin,
+    One line per statement, face change, robot command and spoken word, in
+    time order (--grouped: statements, then face, robot and words). With
+    --json, print one record per frame with the whole face state (skin,
     mouth, brows, eyes, eyelids, head pan, crossfade) and the robot's status.
     """
-    from .effects import EffectWords
+    from .explanation import explained
     from .timeline import state_record
 
     script = script_from(script_path, inline, "explain")
@@ -251,22 +288,8 @@ def explain(
             typer.echo(json.dumps(state_record(t, animation.sample(t), timeline.status(t)), sort_keys=True))
         return
     typer.echo(f"{script.filename}: {timeline.duration:.2f} s")
-
-    def row(start: float, end: float, what: str) -> None:
-        when = f"{start:6.2f} s" if end == start else f"{start:6.2f} - {end:6.2f} s"
-        typer.echo(f"  {when:<19} {what}")
-
-    for span in timeline.spans:
-        row(span.start, span.end, f"line {span.line:<4} {span.text}")
-    for change in timeline.parts:
-        p = change.parts
-        row(change.at, change.at, f"face  skin {p.skin}, mouth {p.mouth}, brows {p.brows}")
-    words = EffectWords()
-    for cue in timeline.cues:
-        row(cue.at, cue.at, f"robot {cue.effect.visit(words, cue.at)}")
-    for said in timeline.speech:
-        for word in said.utterance.words:
-            row(said.at + word.at, said.at + word.at, f"word  {word.text}")
+    for line in explained(timeline, grouped):
+        typer.echo(line)
 
 
 @app.command()
@@ -288,13 +311,7 @@ def play(
     theme: Optional[str] = THEME_OPT,
     idle: bool = IDLE_ON_OPT,
     crossfade: Optional[float] = CROSSFADE_OPT,
-    follow_from: Optional[str] = typer.Option(
-        None,
-        "--follow-from",
-        metavar="FILE",
-        help="What following sees, instead of the robot's sensors: a trace (.jsonl: sonar, hands) "
-        "or camera images (a video or a picture).",
-    ),
+    follow_from: Optional[str] = FOLLOW_FROM_OPT,
 ) -> None:
     """Play a script in real time: in a window, or in this terminal.
 
@@ -303,9 +320,7 @@ def play(
     sound device, in step with the picture. A script that follows someone
     follows them in FILE with --follow-from. Ctrl-C stops.
     """
-    from .effects import Follow
     from .playback import Player, TerminalScreen, WindowScreen, window_available
-    from .rehearsal import FollowSourceError, Rehearsal, open_source
     from .renderer import Renderer
 
     if watch and (script_path in (None, "-") or inline is not None):
@@ -322,30 +337,22 @@ def play(
             "use 'baxterface render SCRIPT --out show.gif' to make a file instead"
         )
     renderer = Renderer(fitted_theme(theme, size, "play"))
-    try:
-        animation = animation_for(script, seed, idle, crossfade)
-        source = open_source(follow_from) if follow_from is not None else None
-    except (MissingTool, FollowSourceError) as e:
-        raise fail(f"baxterface play: {e}") from None
-    screen = WindowScreen() if window else TerminalScreen()
+    animation = animation_for(script, seed, idle, crossfade)
     held: List[str] = []  # a terminal's face would cover the line; it is said when the face is gone
 
-    def warn(message: str) -> None:
+    def say(line: str) -> None:
         if window:
-            typer.echo(f"baxterface play: {message}", err=True)
+            typer.echo(line, err=True)
         else:
-            held.append(f"baxterface play: {message}")
+            held.append(line)
 
     def open_sound():  # only once a script that speaks starts: the others never touch the device
         from .audio import open_sound as open_device
 
-        return open_device(warn)
+        return open_device(lambda message: say(f"baxterface play: {message}"))
 
-    follow = None
-    if source is not None:
-        follow = Rehearsal(source, warn)
-        if not any(isinstance(cue.effect, Follow) for cue in animation.timeline.cues):
-            warn("the script follows nothing, so --follow-from changes nothing")
+    follow = following_from(follow_from, animation, "play", say)
+    screen = WindowScreen() if window else TerminalScreen()
     player = Player(animation, renderer, screen, fps, sound=open_sound, follow=follow)
     poll = _watcher(script_path, seed, idle, crossfade, player) if watch else None
     interrupted = False
@@ -663,12 +670,22 @@ def studio(
 
 
 @app.command()
-def voices() -> None:
-    """List the voices `say ... voice NAME` takes (espeak-ng's), one a line."""
-    from .voices import voice_names
+def voices(
+    query: Optional[str] = typer.Argument(
+        None,
+        metavar="[LANGUAGE]",
+        help="Only these: a voice name and those under it (en), or a language (spanish).",
+    ),
+) -> None:
+    """List the voices `say ... voice NAME` takes (espeak-ng's), with the language each speaks."""
+    from .voices import matching_voices, voice_languages
 
-    for name in voice_names():
-        typer.echo(name)
+    found = matching_voices(query) if query else list(voice_languages().items())
+    if not found:
+        raise fail(f"baxterface voices: no voice speaks {query!r}; 'baxterface voices' lists them all")
+    width = max(len(name) for name, _ in found)
+    for name, language in found:
+        typer.echo(f"{name:<{width}}  {language}")
 
 
 theme_app = typer.Typer(

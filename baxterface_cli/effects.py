@@ -9,6 +9,7 @@ method on each handler; a handler that lacks one cannot be instantiated.
 
 from __future__ import annotations
 
+import math
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, NamedTuple, Optional
@@ -180,7 +181,8 @@ class EffectWords(EffectHandler):
     """Each effect in words, for `explain`."""
 
     def head_pan(self, effect: HeadPan, at: float) -> str:
-        return f"head pan to {effect.target:+.2f} rad over {effect.duration:g} s (speed {effect.speed:.2f})"
+        to = radians_and_degrees(effect.target, "+")
+        return f"head pan to {to} over {effect.duration:g} s (speed {effect.speed:.2f} rad/s)"
 
     def head_nod(self, effect: HeadNod, at: float) -> str:
         return "nod"
@@ -197,6 +199,11 @@ class EffectWords(EffectHandler):
     def speech(self, effect: Speech, at: float) -> str:
         u = effect.utterance
         return f"say {quoted(u.text)} ({u.duration:.2f} s, voice {u.voice}, {u.rate} words a minute)"
+
+
+def radians_and_degrees(angle: float, sign: str = "") -> str:
+    """An angle as the robot takes it and as people picture it: `0.349 rad (20 deg)`."""
+    return f"{angle:{sign}.2f} rad ({math.degrees(angle):{sign}.3g} deg)"
 
 
 def quoted(text: str) -> str:

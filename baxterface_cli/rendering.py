@@ -3,13 +3,17 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Callable, List, Optional
+from typing import TYPE_CHECKING, Callable, List, Optional
 
 from .formats import Export, Format, format_for
 from .idle import Animation
 from .partial import remove_stale
 from .renderer import Renderer
 from .soundtrack import soundtrack
+from .state import FaceState
+
+if TYPE_CHECKING:  # following is only imported by those who follow
+    from .rehearsal import Rehearsal
 
 Progress = Callable[[int, int], None]  # (frames done, frames in all)
 
@@ -49,8 +53,13 @@ def render(
     at: Optional[float] = None,
     progress: Optional[Progress] = None,
     robot: str = "baxter",
+    follow: Optional[Rehearsal] = None,
 ) -> int:
-    """Write the animation to `out`; returns the number of frames rendered."""
+    """Write the animation to `out`; returns the number of frames rendered.
+
+    With `follow`, the eyes follow what it was made from (`--follow-from`),
+    frame by frame as `play` shows it.
+    """
     fmt = format_for(out)
     path = Path(out)
     # Partials are written beside the target: for a folder, beside the folder.
@@ -67,10 +76,18 @@ def render(
         audio=soundtrack(animation.timeline.speech, animation.duration),
     )
     times = frame_times(fmt, animation, fps, at)
+
+    def state_at(t: float) -> FaceState:
+        state = animation.sample(t)
+        return state if follow is None else follow.look(state, t, animation.timeline.status(t))
+
+    if follow is not None and fmt.one_frame:  # following has a past: live it up to the still
+        for i in range(int(times[0] * fps)):
+            state_at(i / fps)
     sink = fmt.open(path, export)
     try:
         for i, t in enumerate(times):
-            sink.add(renderer.render(animation.sample(t)), t)
+            sink.add(renderer.render(state_at(t)), t)
             if progress:
                 progress(i + 1, len(times))
         sink.close()

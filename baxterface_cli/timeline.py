@@ -476,7 +476,7 @@ def describe(s: Any) -> str:
         kind = "dynamic look" if s.dynamic else "look"
         return f"{kind} {s.x:g} {s.y:g}{timed(s)}"
     if isinstance(s, n.Wobble):
-        return f"wobble {s.angle:g} rad{timed(s)}"
+        return f"wobble {fx.radians_and_degrees(s.angle)}{timed(s)}"
     if isinstance(s, n.Eyelids):
         return f"eyelids {s.openness:g}{timed(s)}"
     if isinstance(s, n.Wait):

@@ -141,7 +141,7 @@ def test_a_bag_holds_the_frames_and_robot_commands_at_their_times(bag, tmp_path)
     ]
     wanted = []
     for at, what in robot_lines():
-        pan = re.match(r"head pan to ([-+][\d.]+) rad over .* \(speed ([\d.]+)\)", what)
+        pan = re.match(r"head pan to ([-+][\d.]+) rad .* over .* \(speed ([\d.]+) rad/s\)", what)
         say = re.match(r'say "(.*)" \(', what)
         if pan:
             wanted.append((at, PAN, (float(pan.group(1)), float(pan.group(2)), 1)))

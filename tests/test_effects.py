@@ -110,7 +110,7 @@ def test_a_consumer_missing_a_method_cannot_be_made():
 def test_effects_in_words():
     words = [e.visit(EffectWords(), 0.0) for e in ONE_OF_EACH]
     assert words == [
-        "head pan to +0.30 rad over 0.5 s (speed 0.60)",
+        "head pan to +0.30 rad (+17.2 deg) over 0.5 s (speed 0.60 rad/s)",
         "nod",
         "enable",
         "follow left arm dynamic",
@@ -165,9 +165,26 @@ def test_every_statement_for_the_robot_explains_without_error():
         "disable",
         "follow human dynamic",
         "follow off",
-        "head pan to +1.50 rad over 0.5 s (speed 1.00)",
+        "head pan to +1.50 rad (+85.9 deg) over 0.5 s (speed 1.00 rad/s)",
         "exit: the face node shuts down",
     ]
+
+
+def test_explain_tells_one_story_in_time_order_and_angles_in_degrees_too():
+    script = "wake up; happy; wobble 20deg in 1s; nod; look left in 0.5s; sad"
+    run = baxterface("explain", "-e", script)
+    assert run.code == 0, run.err
+    rows = run.out.splitlines()[1:]
+    times = [float(row.split()[0]) for row in rows]
+    assert times == sorted(times), run.out
+    kinds = [row.split("s ", 1)[1].split()[0] for row in rows]
+    assert kinds == ["line", "face", "line", "face", "line", "robot", "line", "robot", "line", "line", "face"]
+    assert "wobble 0.35 rad (20 deg) in 1s" in run.out
+    assert "robot head pan to +0.35 rad (+20 deg) over 1 s (speed 0.35 rad/s)" in run.out
+    grouped = baxterface("explain", "--grouped", "-e", script).out.splitlines()[1:]
+    assert sorted(grouped) == sorted(rows)  # the same lines, each kind together
+    in_groups = sorted(kinds, key=["line", "face", "robot"].index)
+    assert [row.split("s ", 1)[1].split()[0] for row in grouped] == in_groups
 
 
 def test_the_dynamic_look_rule_is_one_rule_for_scripts_and_following():

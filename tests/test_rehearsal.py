@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import math
 
+import numpy as np
 import pexpect
 import pytest
 from test_play import FakeClock, spawn_play
@@ -16,7 +17,7 @@ from baxterface_cli.rehearsal import FollowSourceError, Rehearsal, open_source
 from baxterface_cli.renderer import Renderer
 from baxterface_cli.theme import Theme
 from baxterface_cli.timeline import compile_script
-from conftest import ROOT, needs
+from conftest import ROOT, baxterface, needs
 
 FPS = 30.0
 
@@ -211,3 +212,66 @@ def test_a_file_that_is_neither_trace_video_nor_picture_is_one_line(tmp_path):
         FollowSourceError, match=r"notes.txt: cannot read it as a video \(or a .jsonl trace\)$"
     ):
         open_source(str(junk))
+
+
+def test_render_follow_from_draws_what_play_shows(tmp_path):
+    from PIL import Image
+
+    trace = write_trace(tmp_path / "arm.jsonl", [{"t": 0, "left": [0.8, 0.8, 1.55]}])
+    script = "follow left arm; wait 2s"
+    size, at = (256, 150), 1.5
+    followed = baxterface(
+        "render",
+        "-e",
+        script,
+        "--follow-from",
+        trace,
+        "--out",
+        str(tmp_path / "f.png"),
+        "--at",
+        str(at),
+        "--size",
+        "256x150",
+    )
+    assert followed.code == 0, followed.err
+    plain = baxterface(
+        "render", "-e", script, "--out", str(tmp_path / "p.png"), "--at", str(at), "--size", "256x150"
+    )
+    assert plain.code == 0, plain.err
+    t, state, _ = rehearse(script, trace, at + 1 / FPS)[-1]
+    assert t == pytest.approx(at) and state.eye_x == pytest.approx(45.0, abs=1.0)
+    wanted = Renderer(Theme.default().layers(size)).render(state)[..., ::-1]
+    drawn = np.asarray(Image.open(tmp_path / "f.png").convert("RGB"))
+    assert np.array_equal(drawn, wanted)  # the eyes where play puts them, up and to the left
+    assert not np.array_equal(drawn, np.asarray(Image.open(tmp_path / "p.png").convert("RGB")))
+    # A video follows frame by frame, from the same file.
+    video = baxterface(
+        "render",
+        "-e",
+        script,
+        "--follow-from",
+        trace,
+        "--out",
+        str(tmp_path / "frames") + "/",
+        "--fps",
+        "10",
+        "--size",
+        "256x150",
+    )
+    assert video.code == 0, video.err
+    last = np.asarray(Image.open(sorted((tmp_path / "frames").glob("*.png"))[-1]).convert("RGB"))
+    assert not np.array_equal(last, np.asarray(Image.open(tmp_path / "p.png").convert("RGB")))
+
+
+def test_render_follow_from_a_file_that_is_not_there_is_one_line_and_exit_1(tmp_path):
+    run = baxterface(
+        "render",
+        "-e",
+        "follow human",
+        "--follow-from",
+        str(tmp_path / "none.jsonl"),
+        "--out",
+        str(tmp_path / "x.png"),
+    )
+    assert run.code == 1 and run.err.count("\n") == 1 and "none.jsonl" in run.err
+    assert not (tmp_path / "x.png").exists()

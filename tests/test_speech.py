@@ -20,6 +20,8 @@ from baxterface_cli import speech
 from baxterface_cli.extras import MissingTool
 from baxterface_cli.resources import resource
 from baxterface_cli.speech import RATES, VOICES, Utterance, known_voice
+from baxterface_cli.voices import voice_languages
+from conftest import baxterface
 
 HELLO = "Hello. World."
 
@@ -179,9 +181,25 @@ def test_the_carried_voices_are_known_without_an_engine():
     assert {"en", "en-gb", "en-us", "de", "fr-fr"} <= VOICES
     assert known_voice("EN-US") and known_voice("en") and not known_voice("xx-nonsense")
     lines = resource("data/voices.txt").read_text(encoding="utf-8").splitlines()
-    names = [line for line in lines if line and not line.startswith("#")]
-    assert names == sorted(set(names)) and all(n == n.lower() and " " not in n for n in names)
+    names = [line.split()[0] for line in lines if line and not line.startswith("#")]
+    assert names == sorted(set(names)) and all(n == n.lower() for n in names)
     assert frozenset(names) == VOICES
+    # Each with its language, as `baxterface voices` shows it.
+    assert voice_languages()["en-us"] == "English (America)" and voice_languages()["de"] == "German"
+    assert all(voice_languages().values())
+
+
+def test_voices_says_each_language_and_finds_them_by_code_or_name():
+    run = baxterface("voices", "en")
+    assert run.code == 0, run.err
+    rows = [line.split(None, 1) for line in run.out.splitlines()]
+    assert ["en-us", "English (America)"] in rows and ["en-gb-scotland", "English (Scotland)"] in rows
+    assert all(name == "en" or name.startswith("en-") for name, _ in rows)
+    spanish = baxterface("voices", "Spanish").out.split()
+    assert {"es", "es-419"} <= set(spanish) and "en" not in spanish
+    assert len(baxterface("voices").out.splitlines()) == len(VOICES)
+    nothing = baxterface("voices", "elvish")
+    assert nothing.code == 1 and nothing.out == "" and "no voice speaks 'elvish'" in nothing.err
 
 
 def listed_voices() -> set:

@@ -1,0 +1,44 @@
+"""`explain`'s words: a compiled timeline as lines of text, in time order or grouped."""
+
+from __future__ import annotations
+
+from typing import List, Tuple
+
+from .effects import EffectWords
+from .timeline import Timeline
+
+# At one instant: the face an earlier statement arrived at, the statement that starts, what it asks of
+# the robot, then the words said.
+_FACE, _STATEMENT, _ROBOT, _WORD = range(4)
+_GROUPS = {_STATEMENT: 0, _FACE: 1, _ROBOT: 2, _WORD: 3}  # --grouped: the statements first
+
+
+def _row(start: float, end: float, what: str) -> str:
+    when = f"{start:6.2f} s" if end == start else f"{start:6.2f} - {end:6.2f} s"
+    return f"  {when:<19} {what}"
+
+
+def explained(timeline: Timeline, grouped: bool = False) -> List[str]:
+    """One line per statement, face change, robot cue and spoken word.
+
+    In time order by default; `grouped` lists the statements, then the face
+    changes, the robot cues and the words, each group in time order.
+    """
+    rows: List[Tuple[float, int, int, str]] = []  # (time, kind, order of appearance, line)
+
+    def add(start: float, end: float, kind: int, what: str) -> None:
+        rows.append((start, kind, len(rows), _row(start, end, what)))
+
+    for span in timeline.spans:
+        add(span.start, span.end, _STATEMENT, f"line {span.line:<4} {span.text}")
+    for change in timeline.parts:
+        p = change.parts
+        add(change.at, change.at, _FACE, f"face  skin {p.skin}, mouth {p.mouth}, brows {p.brows}")
+    words = EffectWords()
+    for cue in timeline.cues:
+        add(cue.at, cue.at, _ROBOT, f"robot {cue.effect.visit(words, cue.at)}")
+    for said in timeline.speech:
+        for word in said.utterance.words:
+            add(said.at + word.at, said.at + word.at, _WORD, f"word  {word.text}")
+    order = (lambda r: (_GROUPS[r[1]], r[0], r[2])) if grouped else (lambda r: (r[0], r[1], r[2]))
+    return [row[3] for row in sorted(rows, key=order)]
