@@ -103,7 +103,7 @@ test-ros: venv-ros
 # Rewrite the golden files (error output, face images) after a deliberate
 # change; review them with `git diff` before committing.
 golden: venv
-	BAXTERFACE_UPDATE_GOLDEN=1 $(BIN)/python -m pytest -q tests/test_errors.py tests/test_face.py
+	BAXTERFACE_UPDATE_GOLDEN=1 $(BIN)/python -m pytest -q tests/language/test_errors.py tests/drawing/test_face.py
 
 # Redraw assets/default/ from the vector shapes in baxterface_cli/artwork.py.
 theme: venv

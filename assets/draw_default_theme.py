@@ -11,8 +11,9 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from baxterface_cli import artwork
-from baxterface_cli.theme import Placed, Theme, parse_size
+from baxterface_cli.drawing import artwork
+from baxterface_cli.drawing.theme import Theme
+from baxterface_cli.drawing.theme_manifest import Placed, parse_size
 
 
 def main() -> None:

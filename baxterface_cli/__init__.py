@@ -2,12 +2,31 @@
 
 from typing import Any
 
-from .diagnostics import Diagnostic, ScriptError
-from .nodes import Script
-from .parser import parse, parse_file
-from .state import FaceState, Parts
+from . import _moved
+from .core.face_state import FaceState, Parts
+from .language.diagnostics import Diagnostic, ScriptError
+from .language.parser import parse, parse_file
+from .language.syntax_tree import Script
 
 __version__ = "0.1.0"
+
+# The package's rooms, lowest first: each imports only from those before it (and the modules at the
+# root), which tests/test_layers.py holds. docs/architecture.md says what each room is.
+LAYERS = (
+    "core",
+    "language",
+    "speech",
+    "engine",
+    "drawing",
+    "robot",
+    "play",
+    "ros",
+    "export",
+    "studio",
+    "cli",
+)
+
+_moved.install()
 
 __all__ = [
     "Diagnostic",
@@ -25,7 +44,7 @@ __all__ = [
 
 # Drawing (numpy, Pillow) loads only when asked for: parsing, checking and
 # compiling a script never need it.
-_DRAWING = {"Face": "face", "Theme": "theme", "ThemeError": "theme"}
+_DRAWING = {"Face": "drawing.face", "Theme": "drawing.theme", "ThemeError": "drawing.theme"}
 
 
 def __getattr__(name: str) -> Any:

@@ -28,12 +28,12 @@ from pathlib import Path
 from ros_master import start_roscore
 
 from baxterface_cli import parse_file
+from baxterface_cli.drawing.renderer import Renderer
+from baxterface_cli.drawing.theme import Theme
+from baxterface_cli.engine.animation import Animation
+from baxterface_cli.engine.compiler import compile_script
+from baxterface_cli.export.render_to_file import render
 from baxterface_cli.extras import MissingTool
-from baxterface_cli.idle import Animation
-from baxterface_cli.renderer import Renderer
-from baxterface_cli.rendering import render
-from baxterface_cli.theme import Theme
-from baxterface_cli.timeline import compile_script
 
 ROOT = Path(__file__).resolve().parent.parent
 SHOW = ROOT / "scripts_examples" / "show.face"

@@ -4,7 +4,7 @@ baxterface's FaceFollower against a plain Haar detector on every full frame).
 
     python bench/bench_follow.py
 
-`sonar_report()` runs both on the faulty traces of tests/traces.py, real
+`sonar_report()` runs both on the faulty traces of tests/support/traces.py, real
 sonar's faults: 4 % of what the sensors report is spurious (a random sensor,
 anything from 0.3 to 3.5 m, so often nearer than the person), 15 % of the
 person's readings drop out, and in half the traces a still object stands
@@ -27,10 +27,10 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests" / "support"))
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from baxterface_cli.following import HumanFollower  # noqa: E402
+from baxterface_cli.robot.following import HumanFollower  # noqa: E402
 from traces import OriginalFollower, faulty_trace, faulty_traces, lag, rms_error, run, spread, still  # noqa: E402
 
 GOALS = {"walk 0.3/s": 0.6, "walk 1.0/s": 0.6, "still": 1.5}

@@ -19,12 +19,12 @@ import numpy as np
 from PIL import Image
 
 from baxterface_cli import parse_file
-from baxterface_cli.idle import Animation
-from baxterface_cli.output import build_palette
-from baxterface_cli.renderer import Renderer
-from baxterface_cli.rendering import palette_times, render
-from baxterface_cli.theme import Theme
-from baxterface_cli.timeline import compile_script
+from baxterface_cli.drawing.renderer import Renderer
+from baxterface_cli.drawing.theme import Theme
+from baxterface_cli.engine.animation import Animation
+from baxterface_cli.engine.compiler import compile_script
+from baxterface_cli.export.png_gif import build_palette
+from baxterface_cli.export.render_to_file import palette_times, render
 
 SHOW = Path(__file__).resolve().parent.parent / "scripts_examples" / "show.face"
 SAMPLE = 150

@@ -30,7 +30,7 @@ from pathlib import Path
 
 from ros_master import start_roscore
 
-from baxterface_cli.tables import LIMITS
+from baxterface_cli.core.tables import LIMITS
 
 ROOT = Path(__file__).resolve().parent.parent
 RELAY = """
@@ -82,13 +82,13 @@ def rss_mb(pid: int) -> float:
 def flood_figures(node, chatter, String, frames, env, seconds=10.0):
     """A flood of good, bad and maximum-size commands while the eyes move; then SIGTERM under load.
 
-    The flood comes from a process of its own (tests/flooder.py), so this one
+    The flood comes from a process of its own (tests/support/flooder.py), so this one
     only receives frames: the gaps are the node's.
     """
     chatter.publish(String("repeat 100 { look 60 0 in 1s; look -60 0 in 1s }"))
     time.sleep(1.0)
     before, start = rss_mb(node.pid), len(frames.times)
-    flood = [sys.executable, str(ROOT / "tests" / "flooder.py"), str(seconds)]
+    flood = [sys.executable, str(ROOT / "tests" / "support" / "flooder.py"), str(seconds)]
     rate = float(subprocess.run(flood, env=env, check=True, capture_output=True, text=True).stdout)
     times = frames.times[start:]
     gap = max((b - a for a, b in zip(times, times[1:])), default=float("inf"))

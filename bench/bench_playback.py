@@ -14,11 +14,11 @@ import os
 import time
 
 from baxterface_cli import parse
-from baxterface_cli.idle import Animation
-from baxterface_cli.playback import Player, TerminalScreen
-from baxterface_cli.renderer import Renderer
-from baxterface_cli.theme import Theme
-from baxterface_cli.timeline import compile_script
+from baxterface_cli.drawing.renderer import Renderer
+from baxterface_cli.drawing.theme import Theme
+from baxterface_cli.engine.animation import Animation
+from baxterface_cli.engine.compiler import compile_script
+from baxterface_cli.play.player import Player, TerminalScreen
 
 SCRIPT = "repeat 5 { look 60 -40 in 1s ease-in-out; blink; look -60 40 in 0.5s }"
 FPS = 30

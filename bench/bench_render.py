@@ -20,9 +20,9 @@ import numpy as np
 from PIL import Image
 
 from baxterface_cli import FaceState, Parts
-from baxterface_cli.renderer import Renderer, pose
-from baxterface_cli.tables import EMOTIONS
-from baxterface_cli.theme import Theme
+from baxterface_cli.core.tables import EMOTIONS
+from baxterface_cli.drawing.renderer import Renderer, pose
+from baxterface_cli.drawing.theme import Theme
 
 
 class Original:

@@ -39,7 +39,7 @@ def sentences(count: int, offset: int = 0):
 
 
 def synthesis() -> None:
-    from baxterface_cli.speech import engine
+    from baxterface_cli.speech.synthesis import engine
 
     texts = sentences(20)
     speaker = engine()
@@ -65,7 +65,7 @@ class Heard:
         from sensor_msgs.msg import Image
 
         from baxterface_cli.ros.messages import message_class
-        from baxterface_cli.ros.robot_link import SOUND_PLAY_FILE
+        from baxterface_cli.ros.wire import SOUND_PLAY_FILE
 
         self.frames, self.sounds = [], []
         self.changed = threading.Event()

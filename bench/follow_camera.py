@@ -2,7 +2,7 @@
 
     python bench/follow_camera.py
 
-Both look at the same synthetic 640x400 streams (tests/face_streams.py: real
+Both look at the same synthetic 640x400 streams (tests/support/face_streams.py: real
 face photos from scikit-image pasted at known places over real backgrounds),
 on one core (cv2.setNumThreads(1)). The baseline runs OpenCV's
 frontalface_default cascade over every full grey frame (scaleFactor 1.1,
@@ -22,12 +22,12 @@ import sys
 from pathlib import Path
 from typing import Callable, List, Optional, Tuple
 
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests" / "support"))
 
 import cv2  # noqa: E402
-import face_streams as fs  # noqa: E402
 
-from baxterface_cli.faces import FaceFollower, eye_target  # noqa: E402
+import face_streams as fs  # noqa: E402
+from baxterface_cli.robot.face_finder import FaceFollower, eye_target  # noqa: E402
 
 Target = Optional[Tuple[float, float]]
 

@@ -17,14 +17,14 @@ import numpy as np
 from PIL import Image, ImageDraw, ImageFont
 
 from baxterface_cli import Face, parse
+from baxterface_cli.core.tables import EMOTIONS, REST, viseme_mouth
+from baxterface_cli.drawing.renderer import Renderer
+from baxterface_cli.drawing.theme import Theme
+from baxterface_cli.engine.animation import Animation
+from baxterface_cli.engine.compiler import compile_script
+from baxterface_cli.export.render_to_file import render
 from baxterface_cli.extras import MissingTool
-from baxterface_cli.idle import Animation
-from baxterface_cli.renderer import Renderer
-from baxterface_cli.rendering import render
-from baxterface_cli.tables import EMOTIONS, REST, viseme_mouth
-from baxterface_cli.theme import Theme
-from baxterface_cli.timeline import compile_script
-from baxterface_cli.visemes import shape_at
+from baxterface_cli.speech.visemes import shape_at
 
 OUT = Path(__file__).resolve().parent / "images"
 THUMB = (320, 188)  # 1024x600 over 3.2: the face's own proportions
@@ -277,8 +277,8 @@ def sonar_walk(seconds: float = 12.0, width: int = 1000, height: int = 360) -> I
     """A person walking back and forth past the sonar, and where each follower puts the eyes."""
     import sys
 
-    sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
-    from baxterface_cli.following import HumanFollower
+    sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests" / "support"))
+    from baxterface_cli.robot.following import HumanFollower
     from traces import back_and_forth, faulty_trace, run
 
     readings = faulty_trace(back_and_forth(1.0), seconds, seed=1, second_object=True)
@@ -312,17 +312,16 @@ def sonar_walk(seconds: float = 12.0, width: int = 1000, height: int = 360) -> I
 
 
 def face_following(times=(1.5, 3.2, 5.0, 6.6)) -> Image.Image:
-    """Camera frames of a synthetic scene (tests/face_streams.py), where the follower looks in
+    """Camera frames of a synthetic scene (tests/support/face_streams.py), where the follower looks in
     each (the cross), and the face `play --follow-from` draws for it."""
     import math
     import sys
 
-    sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
+    sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests" / "support"))
+    from baxterface_cli.play.rehearsal import Rehearsal
+    from baxterface_cli.robot.face_finder import BAXTER_HEAD_CAMERA_HFOV
+    from baxterface_cli.robot.following import DEGREES_PER_RADIAN, PIXELS_PER_ELEVATION
     from face_streams import combined
-
-    from baxterface_cli.faces import BAXTER_HEAD_CAMERA_HFOV
-    from baxterface_cli.following import DEGREES_PER_RADIAN, PIXELS_PER_ELEVATION
-    from baxterface_cli.rehearsal import Rehearsal
 
     stream = combined()
 
@@ -366,7 +365,7 @@ def studio_page(path: Path) -> None:
     import shutil
     import sys
 
-    sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
+    sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests" / "support"))
     from browser import chromium, wait_for
     from studio_server import running_studio
 

@@ -15,6 +15,8 @@ from typing import Optional, Union
 import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
+# The tests' shared helpers (browser, studio_server, traces, ...) import as top-level modules.
+sys.path.insert(0, str(Path(__file__).resolve().parent / "support"))
 
 # A shell starts a background job with Ctrl-C ignored, and an ignored signal stays ignored in every
 # program started from it: the tests that press Ctrl-C on `play`, `render` or `studio` would see
@@ -89,7 +91,7 @@ def roscore(tmp_path_factory):
 def engine():
     """The real espeak-ng engine: skipped where it is missing, except in CI, which installs it."""
     from baxterface_cli.extras import MissingTool
-    from baxterface_cli.speech import engine as speech_engine
+    from baxterface_cli.speech.synthesis import engine as speech_engine
 
     try:
         return speech_engine()

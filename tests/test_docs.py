@@ -13,7 +13,7 @@ import pexpect
 import pytest
 
 from baxterface_cli import parse
-from baxterface_cli.vocabulary import BARE_WORDS, LEGACY_USAGE
+from baxterface_cli.language.vocabulary import BARE_WORDS, LEGACY_USAGE
 from conftest import free_port
 from doc_blocks import DOCS, fenced_blocks, python_examples
 

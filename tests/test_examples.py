@@ -6,9 +6,9 @@ from pathlib import Path
 
 import pytest
 
-from baxterface_cli import nodes as n
 from baxterface_cli import parse_file
-from baxterface_cli.checker import measure, walk
+from baxterface_cli.language import syntax_tree as n
+from baxterface_cli.language.checker import measure, walk
 from conftest import baxterface
 
 pytestmark = pytest.mark.language

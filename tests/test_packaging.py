@@ -27,7 +27,7 @@ def test_wheel_installs_into_a_fresh_venv_and_runs_from_elsewhere(tmp_path):
     assert "baxterface_cli/grammar/face.lark" in names
     assert "baxterface_cli/assets/default/theme.json" in names
     assert "baxterface_cli/assets/default/skin-5.png" in names
-    assert "baxterface_cli/buttons.json" in names
+    assert "baxterface_cli/robot/buttons.json" in names
     assert "baxterface_cli/data/voices.txt" in names  # what `check` knows voices by
     for page in ("index.html", "app.js", "editor.js", "studio.css"):  # the studio, with no Node
         assert f"baxterface_cli/studio/static/{page}" in names

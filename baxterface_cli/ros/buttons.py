@@ -5,7 +5,7 @@ from __future__ import annotations
 import json
 from typing import Any, List
 
-from ..buttons import NAVIGATORS, ButtonMap, Buttons
+from ..robot.navigator_buttons import NAVIGATORS, ButtonMap, Buttons
 from .messages import message_class
 
 

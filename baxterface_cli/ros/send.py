@@ -5,11 +5,13 @@ from __future__ import annotations
 import time
 from typing import List, Optional
 
-from ..effects import Cue
-from ..idle import Animation
-from ..playback import Player
-from ..renderer import Renderer
-from .robot_link import DEFAULT_AUDIO, DISPLAY_TOPICS, connect_robot, open_speaker
+from ..drawing.renderer import Renderer
+from ..engine.animation import Animation
+from ..engine.effects import Cue
+from ..play.player import Player
+from .robot_link import connect_robot
+from .speakers import DEFAULT_AUDIO, open_speaker
+from .wire import DISPLAY_TOPICS
 
 
 class NoSubscriber(Exception):

@@ -12,9 +12,9 @@ import json
 from pathlib import Path
 from typing import List, NamedTuple, Optional, Union
 
-from ..buttons import read_json
-from ..diagnostics import ScriptError
-from ..parser import parse
+from ..language.diagnostics import ScriptError
+from ..language.parser import parse
+from ..robot.navigator_buttons import read_json
 
 DEFAULT_PANEL = Path(__file__).resolve().parent / "panel.json"
 MAX_BUTTONS = 200

@@ -13,13 +13,14 @@ import hashlib
 import math
 from typing import Dict, List, Optional, Tuple
 
-from ..effects import RobotStatus
-from ..idle import Animation
-from ..nodes import Script
-from ..parser import parse
-from ..speech import Utterance
-from ..state import FaceState
-from ..timeline import Said, compile_script
+from ..core.face_state import FaceState
+from ..engine.animation import Animation
+from ..engine.compiler import compile_script
+from ..engine.effects import RobotStatus
+from ..engine.timeline import Said
+from ..language.parser import parse
+from ..language.syntax_tree import Script
+from ..speech.synthesis import Utterance
 from .session import Session
 
 SCRIPT = "script"
@@ -171,6 +172,7 @@ class Preview:
             "playing": self.mode == SESSION or self.transport.playing,
             "loop": self.transport.loop,
             "sounds": self.sounds(now),
+            "face": state.as_record(),
             "robot": {
                 "head_pan_deg": round(math.degrees(state.head_pan), 1),
                 "enabled": robot.enabled,

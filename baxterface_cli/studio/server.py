@@ -20,10 +20,10 @@ import time
 from pathlib import Path
 from typing import Any, Awaitable, Callable, Dict, Optional, Set
 
-from ..diagnostics import ScriptError
+from ..core.tables import LIMITS
+from ..drawing.renderer import Renderer
 from ..extras import MissingTool
-from ..renderer import Renderer
-from ..tables import LIMITS
+from ..language.diagnostics import ScriptError
 from .guard import Guard
 from .workspace import Workspace, diagnostics_json
 

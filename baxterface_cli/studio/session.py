@@ -15,10 +15,10 @@ import random
 import time
 from typing import List, NamedTuple, Optional
 
-from ..diagnostics import ScriptError
-from ..nodes import Script
-from ..parser import parse
-from ..timeline import compile_script
+from ..engine.compiler import compile_script
+from ..language.diagnostics import ScriptError
+from ..language.parser import parse
+from ..language.syntax_tree import Script
 
 
 class Press(NamedTuple):

@@ -18,20 +18,17 @@ import time
 from pathlib import Path
 from typing import Any, Callable, Dict, List, Optional
 
-from ..diagnostics import Diagnostic, ScriptError
-from ..easing import EASINGS
+from ..core.easing import EASINGS
+from ..core.partial_files import write_atomic
+from ..core.tables import BROWS, DIRECTIONS, EMOTIONS, MOUTHS
+from ..engine.timeline import Timeline
 from ..extras import MissingTool
-from ..parser import decode, parse, read_bounded
-from ..partial import write_atomic
-from ..soundtrack import write_wav
-from ..tables import BROWS, DIRECTIONS, EMOTIONS, MOUTHS
-from ..timeline import Timeline
-from ..vocabulary import BARE_WORDS, KEYWORDS
+from ..language.diagnostics import Diagnostic, ScriptError
+from ..language.parser import decode, grammar_words, parse, read_bounded
+from ..language.vocabulary import BARE_WORDS
+from ..speech.soundtrack import write_wav
 from .panel import Button, PanelError, load_panel
 from .preview import Preview, sound_key
-
-# Words the grammar takes after a keyword; with KEYWORDS, what the editor colours as keywords.
-GRAMMAR_WORDS = ("up", "in", "voice", "rate", "human", "face", "off", "left", "right", "arm")
 
 
 def diagnostics_json(diagnostics: List[Diagnostic]) -> List[Dict[str, Any]]:
@@ -63,7 +60,7 @@ def timeline_json(timeline: Timeline) -> Dict[str, Any]:
 def vocabulary() -> Dict[str, List[str]]:
     """The words the editor highlights, from the tables the parser uses."""
     return {
-        "keywords": sorted(set(KEYWORDS) | set(GRAMMAR_WORDS)),
+        "keywords": grammar_words(),
         "words": sorted(BARE_WORDS),
         "emotions": sorted(name for name in EMOTIONS if " " not in name),
         "easings": sorted(EASINGS),

@@ -1,0 +1,189 @@
+"""The `baxterface` app: its options and helpers that every command shares, and its entry point."""
+
+from __future__ import annotations
+
+import os
+import signal
+import sys
+from typing import List, Optional
+
+import typer
+
+from .. import __version__
+from ..extras import MissingTool
+from ..language.diagnostics import ScriptError, render_all
+from ..language.parser import parse, parse_file
+from ..language.syntax_tree import Script
+
+DEFAULT_SEED = 0  # render and explain are reproducible unless told otherwise
+
+app = typer.Typer(
+    name="baxterface",
+    help="A face for the Baxter robot's head screen, written as a script.\n\n"
+    "Scripts mix the old face node's commands (happy, look_40_-20_0.5, wobble_0.3) "
+    "with the script language (happy; look 40 -20 in 0.5s; wobble 0.3). "
+    "See docs/language.md.",
+    no_args_is_help=True,
+    pretty_exceptions_enable=False,
+    context_settings={"help_option_names": ["-h", "--help"]},
+)
+
+
+def _version(value: bool) -> None:
+    if value:
+        typer.echo(f"baxterface {__version__}")
+        raise typer.Exit()
+
+
+@app.callback()
+def _root(
+    version: bool = typer.Option(
+        False, "--version", callback=_version, is_eager=True, help="Print the version and exit."
+    ),
+) -> None:
+    """Root options; the work is in the subcommands."""
+
+
+def load_script(path: str) -> Script:
+    """Read and parse FILE, or standard input for '-'."""
+    if path == "-":
+        return parse_file(sys.stdin.buffer, "<stdin>")
+    return parse_file(path)
+
+
+def fail(message: str, code: int = 1) -> typer.Exit:
+    typer.echo(message, err=True)
+    return typer.Exit(code)
+
+
+def script_from(path: Optional[str], inline: Optional[str], command: str) -> Script:
+    """The script a command was given: FILE, '-', inline with -e, or piped in."""
+    try:
+        if inline is not None:
+            if path is not None:
+                raise fail(f"baxterface {command}: give a SCRIPT or -e TEXT, not both", 2)
+            script = parse(inline, "<-e>")
+        elif path is None and sys.stdin.isatty():
+            raise fail(
+                f"baxterface {command}: no script; give a FILE, '-' for standard input, or -e 'happy; blink'",
+                2,
+            )
+        else:
+            script = load_script(path or "-")
+    except ScriptError as e:
+        raise fail(e.render()) from None
+    echo_warnings(script)
+    return script
+
+
+def echo_warnings(script: Script) -> None:
+    if script.warnings:
+        text = render_all(script.warnings, script.filename, script.source, more_warnings=script.more_warnings)
+        typer.echo(text, err=True)
+
+
+def fitted_theme(theme: Optional[str], size: Optional[str], command: str):
+    """The theme's layers at the asked size, or a clear exit naming `command`."""
+    from ..drawing.theme import ThemeError, resolve
+
+    try:
+        return resolve(theme).layers(_size(size) or (1024, 600))
+    except ThemeError as e:
+        raise fail(f"baxterface {command}: {e}") from None
+
+
+SCRIPT_ARG = typer.Argument(
+    None, metavar="[SCRIPT]", help="Script file; '-' or nothing reads standard input."
+)
+INLINE_OPT = typer.Option(
+    None, "-e", "--eval", metavar="TEXT", help="The script itself: -e 'happy; look 40 -20'."
+)
+SEED_HELP = "Seed for emotions' random mouths and brows, and idle blinks."
+SIZE_OPT = typer.Option(
+    None, "--size", metavar="WxH", help="Screen size (default 1024x600; 1920x1200 for upgraded heads)."
+)
+THEME_OPT = typer.Option(
+    None, "--theme", metavar="DIR", help="A theme folder (see 'baxterface theme export')."
+)
+FPS_HELP = "Frames per second."
+# Real-time commands: a new seed each run, idle life on.
+RANDOM_SEED_OPT = typer.Option(None, "--seed", help=SEED_HELP + " Default: random.")
+IDLE_ON_OPT = typer.Option(True, "--idle/--no-idle", help="Idle blinks and eye darts.")
+CROSSFADE_OPT = typer.Option(
+    None,
+    "--crossfade",
+    metavar="SECONDS",
+    min=0.0,
+    max=2.0,
+    help="Blend part changes over this time; 0 cuts. Default: 0.15 s, or cuts for the old node's commands.",
+)
+
+
+FOLLOW_FROM_OPT = typer.Option(
+    None,
+    "--follow-from",
+    metavar="FILE",
+    help="What following sees, instead of the robot's sensors: a trace (.jsonl: sonar, hands) "
+    "or camera images (a video or a picture).",
+)
+
+
+def following_from(path: Optional[str], animation, command: str, say):
+    """The rehearsal that follows what FILE shows (`--follow-from`), or None without one.
+
+    `say` takes a warning line; a file that cannot be used is a clear exit 1.
+    """
+    if path is None:
+        return None
+    from ..engine.effects import Follow
+    from ..play.rehearsal import FollowSourceError, Rehearsal, open_source
+
+    try:
+        source = open_source(path)
+    except (MissingTool, FollowSourceError) as e:
+        raise fail(f"baxterface {command}: {e}") from None
+    if not any(isinstance(cue.effect, Follow) for cue in animation.timeline.cues):
+        say(f"baxterface {command}: the script follows nothing, so --follow-from changes nothing")
+    return Rehearsal(source, lambda message: say(f"baxterface {command}: {message}"))
+
+
+def animation_for(script: Script, seed: Optional[int], idle: bool, crossfade: Optional[float]):
+    from ..engine.animation import Animation
+    from ..engine.compiler import compile_script
+
+    try:
+        timeline = compile_script(script, seed, crossfade=crossfade)
+    except MissingTool as e:  # `say` without a speech engine
+        raise fail(f"baxterface: {e}") from None
+    return Animation(timeline, idle=idle, seed=seed)
+
+
+def _size(text: Optional[str]) -> Optional[tuple]:
+    from ..drawing.theme_manifest import parse_size
+
+    if text is None:
+        return None
+    try:
+        return parse_size(text)
+    except ValueError as e:
+        raise typer.BadParameter(str(e)) from None
+
+
+ROS_ARGS = {"allow_extra_args": True, "ignore_unknown_options": True}
+
+
+def _terminate(signum: int, frame: object) -> None:
+    # Unwind like Ctrl-C, so half-written output is removed on the way out.
+    raise SystemExit(128 + signum)
+
+
+def main(argv: Optional[List[str]] = None) -> None:
+    """Entry point: run the app, never showing a user a Python traceback."""
+    signal.signal(signal.SIGTERM, _terminate)
+    try:
+        app(args=argv, prog_name="baxterface")
+    except Exception as e:  # a bug of ours: say so in one line
+        if os.environ.get("BAXTERFACE_DEBUG"):
+            raise
+        typer.echo(f"baxterface: internal error: {e!r} (BAXTERFACE_DEBUG=1 shows where)", err=True)
+        sys.exit(2)

@@ -1,0 +1,133 @@
+"""`baxterface play`: a script in real time, in a window or this terminal."""
+
+from __future__ import annotations
+
+import os
+import sys
+from typing import List, Optional
+
+import typer
+
+from ..language.diagnostics import ScriptError
+from .app import (
+    CROSSFADE_OPT,
+    FOLLOW_FROM_OPT,
+    FPS_HELP,
+    IDLE_ON_OPT,
+    INLINE_OPT,
+    RANDOM_SEED_OPT,
+    SIZE_OPT,
+    THEME_OPT,
+    animation_for,
+    fail,
+    fitted_theme,
+    following_from,
+    load_script,
+    script_from,
+)
+
+
+def play(
+    script_path: Optional[str] = typer.Argument(
+        None, metavar="SCRIPT", help="Script file ('-' reads standard input)."
+    ),
+    inline: Optional[str] = INLINE_OPT,
+    loop: bool = typer.Option(False, "--loop", help="Start again at the end, until interrupted."),
+    watch: bool = typer.Option(
+        False, "--watch", help="Reload SCRIPT when it changes; keep the last good version on errors."
+    ),
+    window: Optional[bool] = typer.Option(
+        None, "--window/--terminal", help="Where to play (default: a window if there is a display)."
+    ),
+    fps: float = typer.Option(30.0, "--fps", min=1.0, max=120.0, help=FPS_HELP),
+    size: Optional[str] = SIZE_OPT,
+    seed: Optional[int] = RANDOM_SEED_OPT,
+    theme: Optional[str] = THEME_OPT,
+    idle: bool = IDLE_ON_OPT,
+    crossfade: Optional[float] = CROSSFADE_OPT,
+    follow_from: Optional[str] = FOLLOW_FROM_OPT,
+) -> None:
+    """Play a script in real time: in a window, or in this terminal.
+
+    The status line shows what only the robot could: head pan, enable,
+    following. A script that says something speaks through this machine's
+    sound device, in step with the picture. A script that follows someone
+    follows them in FILE with --follow-from. Ctrl-C stops.
+    """
+    from ..drawing.renderer import Renderer
+    from ..play.player import Player, TerminalScreen, WindowScreen, window_available
+
+    if watch and (script_path in (None, "-") or inline is not None):
+        raise fail("baxterface play: --watch needs a SCRIPT file", 2)
+    script = script_from(script_path, inline, "play")
+    why_not = window_available()
+    if window is None:
+        window = why_not is None
+    if window and why_not:
+        raise fail(f"baxterface play: cannot open a window: {why_not}")
+    if not window and not sys.stdout.isatty():
+        raise fail(
+            "baxterface play: no display and no terminal to play in; "
+            "use 'baxterface render SCRIPT --out show.gif' to make a file instead"
+        )
+    renderer = Renderer(fitted_theme(theme, size, "play"))
+    animation = animation_for(script, seed, idle, crossfade)
+    held: List[str] = []  # a terminal's face would cover the line; it is said when the face is gone
+
+    def say(line: str) -> None:
+        if window:
+            typer.echo(line, err=True)
+        else:
+            held.append(line)
+
+    def open_sound():  # only once a script that speaks starts: the others never touch the device
+        from ..speech.sound_device import open_sound as open_device
+
+        return open_device(lambda message: say(f"baxterface play: {message}"))
+
+    follow = following_from(follow_from, animation, "play", say)
+    screen = WindowScreen() if window else TerminalScreen()
+    player = Player(animation, renderer, screen, fps, sound=open_sound, follow=follow)
+    poll = _watcher(script_path, seed, idle, crossfade, player) if watch else None
+    interrupted = False
+    try:
+        player.run(loop=loop, hold=watch, poll=poll)
+    except KeyboardInterrupt:
+        interrupted = True
+    finally:
+        screen.close()
+        if player.sound is not None:
+            player.sound.close()
+        for line in held:
+            typer.echo(line, err=True)
+    shown = f"{player.frames_shown} frames ({screen.name})"
+    length = player.animation.duration
+    if interrupted:  # the shell's convention: 128 + SIGINT
+        where = f"{player.position:.2f} s of {length:.2f} s of script"
+        typer.echo(f"interrupted at {where}, after {player.elapsed():.2f} s: {shown}", err=True)
+        raise typer.Exit(130)
+    typer.echo(f"played {length:.2f} s of script in {player.elapsed():.2f} s: {shown}", err=True)
+
+
+def _watcher(path: str, seed: Optional[int], idle: bool, crossfade: Optional[float], player):
+    """A poll function: a new animation when the file changed and parses, else None."""
+    state = {"mtime": os.stat(path).st_mtime_ns}
+
+    def poll():
+        try:
+            mtime = os.stat(path).st_mtime_ns
+        except OSError:
+            return None
+        if mtime == state["mtime"]:
+            return None
+        state["mtime"] = mtime
+        try:
+            script = load_script(path)
+        except ScriptError as e:
+            first = e.diagnostics[0]
+            player.note = f"kept the last good version: line {first.line}: {first.message}"
+            return None
+        player.note = ""
+        return animation_for(script, seed, idle, crossfade)
+
+    return poll

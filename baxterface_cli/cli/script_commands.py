@@ -1,0 +1,192 @@
+"""Commands on a script file: `check`, `explain` and `render`."""
+
+from __future__ import annotations
+
+import json
+import sys
+from typing import List, Optional
+
+import typer
+
+from ..extras import MissingTool
+from ..language.diagnostics import ScriptError
+from ..language.syntax_tree import to_json
+from .app import (
+    CROSSFADE_OPT,
+    DEFAULT_SEED,
+    FOLLOW_FROM_OPT,
+    FPS_HELP,
+    INLINE_OPT,
+    SCRIPT_ARG,
+    SEED_HELP,
+    SIZE_OPT,
+    THEME_OPT,
+    animation_for,
+    echo_warnings,
+    fail,
+    fitted_theme,
+    following_from,
+    load_script,
+    script_from,
+)
+
+
+def check(
+    files: List[str] = typer.Argument(
+        ..., metavar="FILE...", help="Scripts to check; '-' reads standard input."
+    ),
+    ast: bool = typer.Option(False, "--ast", help="Print the script's syntax tree as JSON (one FILE)."),
+) -> None:
+    """Check scripts: silent with exit status 0 when they are fine.
+
+    Each problem prints as FILE:LINE:COL: error: message, with the source line
+    and a caret under the column; any error makes the exit status 1. Warnings
+    (an eye target outside the eye ellipse, say) print the same way but keep
+    the status 0.
+    """
+    if ast and len(files) != 1:
+        typer.echo("baxterface check: --ast takes exactly one FILE", err=True)
+        raise typer.Exit(2)
+    failed = False
+    for path in files:
+        try:
+            script = load_script(path)
+        except ScriptError as e:
+            typer.echo(e.render(), err=True)
+            failed = True
+            continue
+        echo_warnings(script)
+        if ast:
+            typer.echo(json.dumps(to_json(script), indent=2, sort_keys=True))
+    if failed:
+        raise typer.Exit(1)
+
+
+def explain(
+    script_path: Optional[str] = SCRIPT_ARG,
+    inline: Optional[str] = INLINE_OPT,
+    as_json: bool = typer.Option(
+        False, "--json", help="One JSON object per frame (JSON Lines): the whole face state."
+    ),
+    fps: float = typer.Option(30.0, "--fps", min=1.0, max=120.0, help="Frames per second for --json."),
+    seed: int = typer.Option(DEFAULT_SEED, "--seed", help=SEED_HELP),
+    idle: bool = typer.Option(False, "--idle", help="Include idle blinks and eye darts (--json)."),
+    crossfade: Optional[float] = CROSSFADE_OPT,
+    grouped: bool = typer.Option(
+        False, "--grouped", help="Statements first, then face changes, robot commands and words."
+    ),
+) -> None:
+    """Explain a script's timeline: what starts and ends when.
+
+    One line per statement, face change, robot command and spoken word, in
+    time order (--grouped: statements, then face, robot and words). With
+    --json, print one record per frame with the whole face state (skin,
+    mouth, brows, eyes, eyelids, head pan, crossfade) and the robot's status.
+    """
+    from ..engine.explanation import explained
+    from ..engine.timeline import state_record
+
+    script = script_from(script_path, inline, "explain")
+    animation = animation_for(script, seed, idle, crossfade)
+    timeline = animation.timeline
+    if as_json:
+        for t in timeline.frame_times(fps):
+            typer.echo(json.dumps(state_record(t, animation.sample(t), timeline.status(t)), sort_keys=True))
+        return
+    typer.echo(f"{script.filename}: {timeline.duration:.2f} s")
+    for line in explained(timeline, grouped):
+        typer.echo(line)
+
+
+def render(
+    script_path: Optional[str] = SCRIPT_ARG,
+    out: str = typer.Option(
+        ...,
+        "--out",
+        "-o",
+        metavar="PATH",
+        help="FILE.mp4, .webm, .gif, .webp, .apng, .bag, .png (one frame), .wav (the speech alone), "
+        "or DIR/ for numbered PNGs.",
+    ),
+    inline: Optional[str] = INLINE_OPT,
+    fps: float = typer.Option(30.0, "--fps", min=1.0, max=120.0, help=FPS_HELP),
+    size: Optional[str] = SIZE_OPT,
+    seed: int = typer.Option(DEFAULT_SEED, "--seed", help=SEED_HELP),
+    at: Optional[float] = typer.Option(
+        None, "--at", metavar="T", min=0.0, help="For a .png: the time to show (default: the end)."
+    ),
+    theme: Optional[str] = THEME_OPT,
+    idle: bool = typer.Option(False, "--idle", help="Add idle blinks and eye darts."),
+    crossfade: Optional[float] = CROSSFADE_OPT,
+    quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress bar."),
+    robot: str = typer.Option(
+        "baxter", "--robot", metavar="NAME", help="For a .bag: baxter (/robot/xdisplay) or sawyer."
+    ),
+    follow_from: Optional[str] = FOLLOW_FROM_OPT,
+) -> None:
+    """Render a script to a video, an animation, a ROS bag or image files.
+
+    The extension picks the format: .mp4 (H.264) and .webm (VP9) videos, with
+    the speech; .gif, .webp and .apng looping animations; a .bag that `rosbag
+    play` replays on the robot; .wav the speech alone; a .png gets one frame,
+    the last or the one at --at; PATH ending
+    in '/' (or an existing folder) gets frame_00000.png, ... Files appear only
+    once complete. A script that follows someone follows them in FILE with
+    --follow-from, as `play` shows it.
+    """
+    from ..drawing.renderer import Renderer
+    from ..export.registry import format_for
+    from ..export.render_to_file import render as render_to
+    from ..export.sink import FormatError
+    from ..ros.wire import DISPLAY_TOPICS
+
+    try:
+        fmt = format_for(out)
+    except FormatError as e:
+        raise typer.BadParameter(str(e), param_hint="--out") from None
+    if at is not None and not fmt.one_frame:
+        raise typer.BadParameter(
+            "picks the frame of a .png; videos, animations, bags and folders get every frame",
+            param_hint="--at",
+        )
+    if robot not in DISPLAY_TOPICS:
+        raise typer.BadParameter(
+            f"must be {' or '.join(DISPLAY_TOPICS)}, not {robot!r}", param_hint="--robot"
+        )
+    animation = animation_for(script_from(script_path, inline, "render"), seed, idle, crossfade)
+    follow = following_from(follow_from, animation, "render", lambda line: typer.echo(line, err=True))
+    if at is not None and at > animation.duration:
+        typer.echo(
+            f"baxterface render: --at {at:g} is past the script's end ({animation.duration:.2f} s); "
+            "showing the last frame",
+            err=True,
+        )
+    renderer = Renderer(fitted_theme(theme, size, "render"))
+    show_progress = not quiet and sys.stderr.isatty()
+    try:
+        if show_progress:
+            from rich.progress import Progress
+
+            with Progress(transient=True) as bar:
+                task = bar.add_task("rendering", total=None)
+                count = render_to(
+                    animation,
+                    renderer,
+                    out,
+                    fps,
+                    at,
+                    lambda done, total: bar.update(task, completed=done, total=total),
+                    robot,
+                    follow,
+                )
+        else:
+            count = render_to(animation, renderer, out, fps, at, robot=robot, follow=follow)
+    except MissingTool as e:
+        raise fail(f"baxterface render: {e}") from None
+    except FormatError as e:
+        raise fail(f"baxterface render: {e}", 2) from None
+    except OSError as e:
+        raise fail(f"baxterface render: cannot write {out}: {e.strerror or e}") from None
+    if not quiet and sys.stderr.isatty():
+        frames = f"{count} frame{'s' if count != 1 else ''}, " if fmt.frames else ""
+        typer.echo(f"wrote {out} ({frames}{animation.duration:.2f} s)", err=True)

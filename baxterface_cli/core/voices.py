@@ -1,0 +1,64 @@
+"""The voices and rates `say` accepts, known without a speech engine.
+
+The voice names, each with the language it speaks, are a table carried with
+the package (data/voices.txt, made from `espeak-ng --voices` by
+assets/list_voices.py), so `check` validates a script on a machine with no
+espeak-ng; the speech engine itself is in `speech`.
+"""
+
+from __future__ import annotations
+
+import re
+from functools import lru_cache
+from typing import Dict, FrozenSet, List, Tuple
+
+from ..resources import resource
+
+DEFAULT_VOICE = "en"
+DEFAULT_RATE = 175  # words a minute: espeak-ng's own default
+# espeak-ng speaks from 80 words a minute; from 450 it switches to a speed-up mode
+# whose phoneme times drift (and, in 1.51, which speaks slower than 449).
+RATES = (80, 400)
+
+
+@lru_cache(maxsize=1)
+def voice_languages() -> Dict[str, str]:
+    """Every voice name, sorted, with the language it speaks."""
+    text = resource("data/voices.txt").read_text(encoding="utf-8")
+    rows = (line.split(None, 1) for line in text.splitlines() if line.strip() and not line.startswith("#"))
+    return dict(sorted((row[0].lower(), row[1].strip() if len(row) > 1 else "") for row in rows))
+
+
+def voice_names() -> Tuple[str, ...]:
+    """Every voice name, sorted."""
+    return tuple(voice_languages())
+
+
+def matching_voices(query: str) -> List[Tuple[str, str]]:
+    """The (name, language) of the voices `query` asks for: a name and the names under it
+    (`en` gives `en`, `en-gb`, ...), or the start of a word of the language, before any
+    parenthesis (`english`, `span`; `america` is not a language, but en-us's accent)."""
+    q = query.strip().lower()
+    return [
+        (name, language)
+        for name, language in voice_languages().items()
+        if name == q
+        or name.startswith(q + "-")
+        or any(word.startswith(q) for word in re.findall(r"[a-z]+", language.split("(")[0].lower()))
+    ]
+
+
+@lru_cache(maxsize=1)
+def _known() -> FrozenSet[str]:
+    return frozenset(voice_names())
+
+
+def known_voice(name: str) -> bool:
+    return name.lower() in _known()
+
+
+def estimated_seconds(text: str, rate: int = DEFAULT_RATE) -> float:
+    """About how long `text` takes to say, without speaking it: for checking a script's length."""
+    words = len(text.split())
+    pauses = sum(text.count(mark) for mark in ",.;:!?")
+    return words * 60.0 / rate + 0.3 * pauses

@@ -1,0 +1,294 @@
+"""Face state -> frame: an (h, w, 3) uint8 array in B, G, R order.
+
+A frame is the bottom stack (background, pupils moved by the eye position,
+lids moved by their openness) under the top stack (skin, mouth, brows). The
+top stack is opaque except in the eye sockets, so:
+
+- the top stack is composited once per combination of parts and kept;
+- each combination keeps a canvas, the whole frame as last drawn;
+- a new state redraws only the rectangles, inside the sockets, that the
+  pupils or the lids could have changed.
+
+`compose(layers, state)` is the plain full recomposite, with the same
+arithmetic; the tests hold the cached path to its exact pixels.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import OrderedDict
+from typing import Dict, List, NamedTuple, Optional, Tuple
+
+import numpy as np
+
+from ..core.face_state import FaceState, Parts
+from ..core.geometry import clamp_to_ellipse
+from .compositing import Rect, Sprite, div255, div255_inplace, finish, intersect, lay
+from .theme_fitting import ThemeLayers
+
+PARTS_KEPT = 12  # part combinations kept: every emotion's, with room to spare
+
+
+class Pose(NamedTuple):
+    """Where the moving layers are, in whole screen pixels."""
+
+    eye_dx: int
+    eye_dy: int
+    lid_dy: int
+
+
+def pose(layers: ThemeLayers, state: FaceState) -> Pose:
+    """Screen offsets for a state: eyes clamped to their ellipse, lids to 0..1."""
+    # A state is plain data anyone can build: a number that is not finite
+    # draws as the rest position rather than failing.
+    x, y = clamp_to_ellipse(*(v if math.isfinite(v) else 0.0 for v in (state.eye_x, state.eye_y)))
+    openness = min(1.0, max(0.0, state.eyelids)) if math.isfinite(state.eyelids) else 1.0
+    s = layers.scale
+    return Pose(_round(x * s), _round(y * s), -_round(layers.lid_travel * openness))
+
+
+def _round(v: float) -> int:
+    # Half away from zero, so a mirrored face gives mirrored pixels.
+    return int(v + 0.5) if v >= 0 else -int(-v + 0.5)
+
+
+class TopStack(NamedTuple):
+    """Skin, mouth and brows composited: premultiplied colour and 255 - alpha."""
+
+    prem: np.ndarray  # (h, w, 3) uint16 (uint8 in a kept skin stack)
+    inv: np.ndarray  # (h, w, 3) uint16 (h, w, 1 uint8 in a kept skin stack)
+
+
+def top_stack(
+    layers: ThemeLayers, parts: Parts, rect: Optional[Rect] = None, skin: Optional[TopStack] = None
+) -> TopStack:
+    """The top stack over `rect` (the whole screen by default).
+
+    `skin`, if given, is the skin alone already stacked over the whole screen
+    (see `skin_stack`); the result is the same, the work smaller.
+    """
+    w, h = layers.size
+    rect = rect or (0, 0, w, h)
+    shape = (rect[3] - rect[1], rect[2] - rect[0])
+    sprites = [layers.skins[parts.skin], layers.mouths[parts.mouth], layers.brows[parts.brows]]
+    if skin is not None:
+        x0, y0, x1, y1 = rect
+        prem = skin.prem[y0:y1, x0:x1].astype(np.uint16)
+        inv = np.repeat(skin.inv[y0:y1, x0:x1], 3, axis=2).astype(np.uint16)
+        sprites = sprites[1:]
+    else:
+        prem = np.zeros(shape + (3,), np.uint16)
+        inv = np.full(shape + (3,), 255, np.uint16)
+    return _stack(rect, sprites, prem, inv)
+
+
+def _stack(rect: Rect, sprites: List[Sprite], prem: np.ndarray, inv: np.ndarray) -> TopStack:
+    """Lay `sprites` in order over the top stack (prem, inv) that covers `rect`."""
+    for sprite in sprites:
+        hit = intersect(rect, sprite.rect())
+        if hit is None:
+            continue
+        lay(prem, rect, sprite)
+        x0, y0, x1, y1 = hit
+        src = (slice(y0 - sprite.y, y1 - sprite.y), slice(x0 - sprite.x, x1 - sprite.x))
+        out = (slice(y0 - rect[1], y1 - rect[1]), slice(x0 - rect[0], x1 - rect[0]))
+        inv[out] = div255(inv[out] * sprite.inv[src])
+    return TopStack(prem, inv)
+
+
+def skin_stack(layers: ThemeLayers, skin: int) -> TopStack:
+    """A skin alone as a top stack over the whole screen, kept as uint8 (it fits)."""
+    w, h = layers.size
+    prem, inv = np.zeros((h, w, 3), np.uint16), np.full((h, w, 3), 255, np.uint16)
+    top = _stack((0, 0, w, h), [layers.skins[skin]], prem, inv)
+    # Kept as uint8, and with one alpha channel: this is the big cache.
+    return TopStack(top.prem.astype(np.uint8), top.inv[..., :1].astype(np.uint8))
+
+
+def bottom_stack(layers: ThemeLayers, at: Pose, rect: Rect) -> np.ndarray:
+    """Background, pupils and lids over `rect`, as uint16 colour."""
+    x0, y0, x1, y1 = rect
+    under = layers.background[y0:y1, x0:x1].astype(np.uint16)
+    for eye in layers.eyes:
+        lay(under, rect, eye, at.eye_dx, at.eye_dy)
+    for lid in layers.lids:
+        lay(under, rect, lid, 0, at.lid_dy)
+    return under
+
+
+def compose(layers: ThemeLayers, state: FaceState) -> np.ndarray:
+    """The plain full recomposite: every layer, every pixel, nothing kept."""
+    full = (0, 0) + layers.size
+
+    def frame(parts: Parts) -> np.ndarray:
+        top = top_stack(layers, parts)  # every layer from scratch
+        return finish(top.prem, top.inv, bottom_stack(layers, pose(layers, state), full))
+
+    if state.fade_from is None or state.fade >= 1.0:
+        return frame(state.parts)
+    if state.fade <= 0.0:
+        return frame(state.fade_from)
+    return crossfade(frame(state.fade_from), frame(state.parts), state.fade)
+
+
+def crossfade(a: np.ndarray, b: np.ndarray, fade: float, out: Optional[np.ndarray] = None) -> np.ndarray:
+    """`fade` of the way from frame a to frame b, in 1/255 steps."""
+    w = int(fade * 255 + 0.5)
+    mixed = a.astype(np.uint16)
+    mixed *= np.uint16(255 - w)
+    other = b.astype(np.uint16)
+    other *= np.uint16(w)
+    mixed += other
+    div255_inplace(mixed)
+    if out is None:
+        return mixed.astype(np.uint8)
+    np.copyto(out, mixed, casting="unsafe")
+    return out
+
+
+def socket_boxes(inv: np.ndarray) -> List[Rect]:
+    """Boxes round the see-through parts of a top stack, one per socket.
+
+    Outside them the top stack is opaque, so nothing below ever shows there.
+    """
+    see_through = inv[..., 0] > 0
+    cols = see_through.any(axis=0)
+    boxes, start = [], None
+    for x, on in enumerate(list(cols) + [False]):
+        if on and start is None:
+            start = x
+        elif not on and start is not None:
+            rows = np.flatnonzero(see_through[:, start:x].any(axis=1))
+            boxes.append((start, int(rows[0]), x, int(rows[-1]) + 1))
+            start = None
+    return boxes
+
+
+class _Canvas:
+    """One part combination's frame as last drawn, and what it needs to redraw.
+
+    Built from its skin's stack: outside the sockets, the mouth and the brows
+    that stack already holds the final pixels, so only those are composited.
+    """
+
+    def __init__(
+        self, layers: ThemeLayers, parts: Parts, at: Pose, skin: TopStack, boxes: List[Rect]
+    ) -> None:
+        w, h = layers.size
+        self.frame = skin.prem.copy()
+        self.boxes = boxes
+        self.tops = [top_stack(layers, parts, box, skin) for box in boxes]
+        for box, top in zip(boxes, self.tops):
+            _finish_into(self.frame, box, top, bottom_stack(layers, at, box))
+        for sprite in (layers.mouths[parts.mouth], layers.brows[parts.brows]):
+            rect = intersect(sprite.rect(), (0, 0, w, h))
+            if rect is not None:
+                top = top_stack(layers, parts, rect, skin)
+                _finish_into(self.frame, rect, top, bottom_stack(layers, at, rect))
+        self.frame.flags.writeable = False
+        self.at = at
+
+
+def _finish_into(frame: np.ndarray, rect: Rect, top: TopStack, under: np.ndarray) -> None:
+    x0, y0, x1, y1 = rect
+    finish(top.prem, top.inv, under, out=frame[y0:y1, x0:x1])
+
+
+class Renderer:
+    """Turns face states into frames, redrawing only what moved.
+
+    `render` returns a read-only view of a buffer the renderer reuses: it is
+    valid until the next call. Copy it (`frame.copy()`) to keep it.
+    """
+
+    def __init__(self, layers: ThemeLayers) -> None:
+        self.layers = layers
+        self._canvases: OrderedDict[Parts, _Canvas] = OrderedDict()
+        self._skins: Dict[int, Tuple[TopStack, List[Rect]]] = {}
+        self._mix: Optional[np.ndarray] = None
+
+    @property
+    def size(self) -> Tuple[int, int]:
+        return self.layers.size
+
+    def render(self, state: FaceState) -> np.ndarray:
+        at = pose(self.layers, state)
+        if state.fade_from is None or state.fade >= 1.0:
+            return self._draw(state.parts, at)
+        if state.fade <= 0.0:
+            return self._draw(state.fade_from, at)
+        old = self._draw(state.fade_from, at)
+        new = self._draw(state.parts, at)
+        if self._mix is None:
+            self._mix = np.empty_like(new)
+        mix = self._mix
+        mix.flags.writeable = True
+        if state.fade_from.skin == state.skin:
+            # Same skin, same pose: the frames differ only where a mouth or
+            # brows of either side reach; elsewhere the blend is the frame.
+            np.copyto(mix, new)
+            for x0, y0, x1, y1 in self._part_rects(state.fade_from, state.parts):
+                crossfade(old[y0:y1, x0:x1], new[y0:y1, x0:x1], state.fade, mix[y0:y1, x0:x1])
+        else:
+            crossfade(old, new, state.fade, mix)
+        mix.flags.writeable = False
+        return mix
+
+    def _part_rects(self, *parts: Parts) -> List[Rect]:
+        screen = (0, 0) + self.layers.size
+        sprites = [self.layers.mouths[p.mouth] for p in parts] + [self.layers.brows[p.brows] for p in parts]
+        return [r for r in (intersect(s.rect(), screen) for s in sprites) if r is not None]
+
+    def _canvas(self, parts: Parts, at: Pose) -> _Canvas:
+        canvas = self._canvases.get(parts)
+        if canvas is None:
+            if parts.skin not in self._skins:
+                skin = skin_stack(self.layers, parts.skin)
+                self._skins[parts.skin] = (skin, socket_boxes(skin.inv))
+            canvas = _Canvas(self.layers, parts, at, *self._skins[parts.skin])
+            self._canvases[parts] = canvas
+            while len(self._canvases) > PARTS_KEPT:
+                self._canvases.popitem(last=False)
+        else:
+            self._canvases.move_to_end(parts)
+        return canvas
+
+    def _draw(self, parts: Parts, at: Pose) -> np.ndarray:
+        canvas = self._canvas(parts, at)
+        if canvas.at != at:
+            canvas.frame.flags.writeable = True
+            for rect in self._changed(canvas.at, at):
+                for box, top in zip(canvas.boxes, canvas.tops):
+                    hit = intersect(rect, box)
+                    if hit is not None:
+                        self._redraw(canvas, hit, box, top, at)
+            canvas.frame.flags.writeable = False
+            canvas.at = at
+        return canvas.frame
+
+    def _changed(self, old: Pose, new: Pose) -> List[Rect]:
+        """Rectangles outside which a move from `old` to `new` changes no pixel."""
+        rects: List[Rect] = []
+        if (old.eye_dx, old.eye_dy) != (new.eye_dx, new.eye_dy):
+            for eye in self.layers.eyes:
+                a, b = eye.rect(old.eye_dx, old.eye_dy), eye.rect(new.eye_dx, new.eye_dy)
+                rects.append((min(a[0], b[0]), min(a[1], b[1]), max(a[2], b[2]), max(a[3], b[3])))
+        if old.lid_dy != new.lid_dy:
+            low, high = sorted((old.lid_dy, new.lid_dy))
+            for lid, (a, b) in zip(self.layers.lids, self.layers.lid_bands):
+                # Rows inside the lid's band of identical rows, at both offsets,
+                # show the same colours: only the two stretches outside change.
+                top, bottom = lid.y + high + a, lid.y + low + b
+                x0, x1 = lid.x, lid.x + lid.width
+                if top < bottom:
+                    rects.append((x0, lid.y + low, x1, top))
+                    rects.append((x0, bottom, x1, lid.y + high + lid.height))
+                else:
+                    rects.append((x0, lid.y + low, x1, lid.y + high + lid.height))
+        return rects
+
+    def _redraw(self, canvas: _Canvas, rect: Rect, box: Rect, top: TopStack, at: Pose) -> None:
+        x0, y0, x1, y1 = rect
+        inside = (slice(y0 - box[1], y1 - box[1]), slice(x0 - box[0], x1 - box[0]))
+        under = bottom_stack(self.layers, at, rect)
+        finish(top.prem[inside], top.inv[inside], under, out=canvas.frame[y0:y1, x0:x1])

@@ -1,0 +1,140 @@
+"""Vector shapes for drawing the face: a supersampled canvas and the shapes drawn on it.
+
+Shapes are masks given in face units (pixels of the 1024x600 face); the
+canvas maps them to the screen, draws them four times larger and
+box-filters them down, which anti-aliases them.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Callable, Iterable, List, Optional, Sequence, Tuple
+
+import numpy as np
+from PIL import Image, ImageChops, ImageDraw
+
+FACE_SIZE = (1024, 600)
+SUPERSAMPLE = 4
+
+Color = Tuple[int, int, int]
+Point = Tuple[float, float]
+
+
+class Canvas:
+    """A layer being drawn: premultiplied RGBA floats at screen size."""
+
+    def __init__(self, size: Tuple[int, int]) -> None:
+        self.width, self.height = size
+        self.scale = min(self.width / FACE_SIZE[0], self.height / FACE_SIZE[1])
+        self.origin = (
+            (self.width - FACE_SIZE[0] * self.scale) / 2.0,
+            (self.height - FACE_SIZE[1] * self.scale) / 2.0,
+        )
+        self.rgba = np.zeros((self.height, self.width, 4), np.float32)
+
+    def to_screen(self, x: float, y: float) -> Point:
+        return self.origin[0] + x * self.scale, self.origin[1] + y * self.scale
+
+    def fill(
+        self, color: Color, coverage: np.ndarray, box: Tuple[int, int, int, int], opacity: float = 1.0
+    ) -> None:
+        """Paint `color` over the layer where `coverage` (0..1, shaped as `box`) says."""
+        x0, y0, x1, y1 = box
+        a = coverage[..., None] * opacity
+        src = np.array([*color, 255], np.float32) / 255.0
+        region = self.rgba[y0:y1, x0:x1]
+        region *= 1.0 - a
+        region += src * a
+
+    def shape(
+        self,
+        draw: Callable[[ImageDraw.ImageDraw, Callable[..., Point]], None],
+        bounds: Sequence[float],
+        color: Color,
+        opacity: float = 1.0,
+        clip: Optional[Callable[[ImageDraw.ImageDraw, Callable[..., Point]], None]] = None,
+    ) -> None:
+        """Draw with PIL at 4x inside `bounds` (face units), then filter down and paint.
+
+        With `clip`, only where that shape is drawn too: a tongue or teeth kept inside a mouth.
+        """
+        fx0, fy0, fx1, fy1 = bounds
+        sx0, sy0 = self.to_screen(fx0, fy0)
+        sx1, sy1 = self.to_screen(fx1, fy1)
+        x0, y0 = max(0, int(math.floor(sx0)) - 1), max(0, int(math.floor(sy0)) - 1)
+        x1, y1 = min(self.width, int(math.ceil(sx1)) + 1), min(self.height, int(math.ceil(sy1)) + 1)
+        if x1 <= x0 or y1 <= y0:
+            return
+        k = SUPERSAMPLE
+        mask = Image.new("L", ((x1 - x0) * k, (y1 - y0) * k), 0)
+
+        def point(x: float, y: float) -> Point:
+            px, py = self.to_screen(x, y)
+            return (px - x0) * k, (py - y0) * k
+
+        draw(ImageDraw.Draw(mask), point)
+        if clip is not None:
+            inside = Image.new("L", mask.size, 0)
+            clip(ImageDraw.Draw(inside), point)
+            mask = ImageChops.multiply(mask, inside)
+        small = mask.resize((x1 - x0, y1 - y0), Image.BOX)
+        coverage = np.asarray(small, np.float32) / 255.0
+        self.fill(color, coverage, (x0, y0, x1, y1), opacity)
+
+    def pen(self, width: float) -> int:
+        """A stroke width in face units, as 4x mask pixels."""
+        return max(1, int(round(width * self.scale * SUPERSAMPLE)))
+
+    def image(self) -> Image.Image:
+        """The layer as a straight-alpha RGBA image."""
+        alpha = self.rgba[..., 3:4]
+        rgb = np.where(alpha > 0, self.rgba[..., :3] / np.maximum(alpha, 1e-6), 0.0)
+        out = np.concatenate([rgb, alpha], axis=2)
+        return Image.fromarray(np.clip(out * 255.0 + 0.5, 0, 255).astype(np.uint8), "RGBA")
+
+
+def ellipse(cx: float, cy: float, rx: float, ry: float) -> Callable:
+    def draw(d: ImageDraw.ImageDraw, p: Callable[..., Point]) -> None:
+        d.ellipse([p(cx - rx, cy - ry), p(cx + rx, cy + ry)], fill=255)
+
+    return draw
+
+
+def ring(cx: float, cy: float, rx: float, ry: float, width: float, canvas: Canvas) -> Callable:
+    def draw(d: ImageDraw.ImageDraw, p: Callable[..., Point]) -> None:
+        h = width / 2.0
+        d.ellipse([p(cx - rx - h, cy - ry - h), p(cx + rx + h, cy + ry + h)], fill=255)
+        d.ellipse([p(cx - rx + h, cy - ry + h), p(cx + rx - h, cy + ry - h)], fill=0)
+
+    return draw
+
+
+def stroke(points: Sequence[Point], width: float, canvas: Canvas) -> Callable:
+    """A polyline with round joints and caps."""
+
+    def draw(d: ImageDraw.ImageDraw, p: Callable[..., Point]) -> None:
+        pts = [p(x, y) for x, y in points]
+        w = canvas.pen(width)
+        d.line(pts, fill=255, width=w, joint="curve")
+        r = w / 2.0
+        for x, y in (pts[0], pts[-1]):
+            d.ellipse([x - r, y - r, x + r, y + r], fill=255)
+
+    return draw
+
+
+def polygon(points: Sequence[Point]) -> Callable:
+    def draw(d: ImageDraw.ImageDraw, p: Callable[..., Point]) -> None:
+        d.polygon([p(x, y) for x, y in points], fill=255)
+
+    return draw
+
+
+def bounds_of(points: Iterable[Point], pad: float) -> Tuple[float, float, float, float]:
+    xs, ys = zip(*points)
+    return min(xs) - pad, min(ys) - pad, max(xs) + pad, max(ys) + pad
+
+
+def curve(f: Callable[[float], float], x0: float, x1: float, steps: int = 48) -> List[Point]:
+    """Points of y = f(x) from x0 to x1."""
+    return [(x0 + (x1 - x0) * i / steps, f(x0 + (x1 - x0) * i / steps)) for i in range(steps + 1)]

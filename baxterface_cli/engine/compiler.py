@@ -1,0 +1,321 @@
+"""Script -> timeline: `compile_script` walks the AST with a clock.
+
+Each statement becomes changes on the timeline's tracks (timeline.py): eyes
+(x, y), lids, head pan, the parts (skin, mouth, brows, which swap with a short
+crossfade), the emotion's name, speech (its mouth shapes over the parts'
+mouth), and cues of robot effects (see `effects`). Changes are applied in time
+order, each starting from wherever its track is at that moment, so `together`
+blocks and interrupted moves compose.
+"""
+
+from __future__ import annotations
+
+import random
+from typing import TYPE_CHECKING, Any, Callable, Dict, List, NamedTuple, Optional, Sequence, Tuple
+
+from ..core.face_state import FaceState
+from ..core.geometry import clamp_pan, clamp_to_ellipse, dynamic_look, to_radians
+from ..core.tables import EMOTIONS, HEAD_SPEED_RATIO, HEAD_TOP_SPEED, TIMING
+from ..language import syntax_tree as n
+from ..language.durations import move_seconds, statement_seconds
+from . import effects as fx
+from .effects import Cue
+from .timeline import CROSSFADE, PartsChange, Said, Span, Speaker, Timeline, Track
+
+if TYPE_CHECKING:
+    from ..speech.synthesis import Utterance
+
+
+class _Event(NamedTuple):
+    at: float
+    order: int
+    apply: Callable[[float], None]
+
+
+class _Compiler:
+    """Walks the AST with a clock, queueing track changes to apply in time order."""
+
+    def __init__(
+        self, script: n.Script, rng: random.Random, start: FaceState, crossfade: float, speak: Speaker
+    ) -> None:
+        self.definitions = script.definitions
+        self.speak = speak
+        self.rng = rng
+        self.crossfade = crossfade
+        self.start = start
+        self.eyes = Track((start.eye_x, start.eye_y))
+        self.lids = Track(start.eyelids)
+        self.head = Track(start.head_pan)
+        self.parts: List[PartsChange] = []
+        self.emotions: List[Tuple[float, str]] = []
+        self.cues: List[Cue] = []
+        self.spans: List[Span] = []
+        self.speech: List[Said] = []
+        self.events: List[_Event] = []
+        self.exit_at: Optional[float] = None
+
+    def later(self, at: float, apply: Callable[[float], None]) -> None:
+        self.events.append(_Event(at, len(self.events), apply))
+
+    def sequence(self, body: Sequence[Any], t: float) -> float:
+        for statement in body:
+            if self.exit_at is not None:
+                break
+            t = self.statement(statement, t)
+        return t
+
+    def statement(self, s: n.Statement, t: float) -> float:
+        end = _HANDLERS[type(s)](self, s, t)
+        if not isinstance(s, (n.Block, n.Call)):  # a block's statements have spans of their own
+            self.spans.append(Span(t, end, s.pos.line, describe(s)))
+        return end
+
+    # -- blocks
+
+    def do_repeat(self, s: n.Repeat, t: float) -> float:
+        for _ in range(s.count):
+            t = self.sequence(s.body, t)
+        return t
+
+    def do_together(self, s: n.Together, t: float) -> float:
+        return max([self.sequence((child,), t) for child in s.body], default=t)
+
+    def do_call(self, s: n.Call, t: float) -> float:
+        return self.sequence(self.definitions[s.name].body, t)
+
+    def do_define(self, s: n.Define, t: float) -> float:
+        return t
+
+    # -- the face
+
+    def do_emotion(self, s: n.Emotion, t: float) -> float:
+        spec = EMOTIONS[s.name]
+        mouth, brows = self.rng.choice(spec.variants)
+
+        def lids_first(at: float) -> None:
+            self.emotions.append((at, s.name))
+            self.lids.move(at, spec.lid_seconds, spec.eyelids)
+
+        self.later(t, lids_first)
+        end = t + statement_seconds(s)
+        self.change_parts(end, skin=spec.skin, mouth=mouth, brows=brows)
+        return end
+
+    def do_look(self, s: n.Look, t: float) -> float:
+        duration, easing = move_seconds(s), s.timing.easing
+        if not s.dynamic:
+            target = clamp_to_ellipse(s.x, s.y)
+            self.later(t, lambda at: self.eyes.move(at, duration, target, easing))
+            return t + duration
+
+        def dynamic(at: float) -> None:
+            pan, eye_x = dynamic_look(to_radians(s.x), self.head.value(at))
+            if pan is not None:
+                self.pan_head(at, pan, duration, easing)
+            self.eyes.move(at, duration, clamp_to_ellipse(eye_x, s.y), easing)
+
+        self.later(t, dynamic)
+        return t + duration
+
+    def pan_head(self, at: float, target: float, duration: float, easing: str) -> None:
+        """Move the head track, and cue the robot with the speed that keeps pace with it."""
+        start = self.head.value(at)
+        self.head.move(at, duration, target, easing)
+        self.cues.append(Cue(at, fx.HeadPan(target, head_speed(start, target, duration), duration)))
+
+    def do_blink(self, s: n.Blink, t: float) -> float:
+        def blink(at: float) -> None:
+            before = self.lids.value(at)
+            self.lids.move(at, TIMING.blink_close, 0.0)
+            self.lids.move(at + TIMING.blink_close, TIMING.blink_open, before)
+
+        self.later(t, blink)
+        return t + statement_seconds(s)
+
+    def do_eyelids(self, s: n.Eyelids, t: float) -> float:
+        duration = move_seconds(s)
+        self.later(t, lambda at: self.lids.move(at, duration, s.openness, s.timing.easing))
+        return t + duration
+
+    def do_skin(self, s: n.Skin, t: float) -> float:
+        self.change_parts(t, skin=s.index)
+        return t
+
+    def do_mouth(self, s: n.Mouth, t: float) -> float:
+        self.change_parts(t, mouth=s.name)
+        return t
+
+    def do_brows(self, s: n.Brows, t: float) -> float:
+        self.change_parts(t, brows=s.name)
+        return t
+
+    def change_parts(self, t: float, **changed: Any) -> None:
+        def apply(at: float) -> None:
+            current = self.parts[-1].parts if self.parts else self.start.parts
+            self.parts.append(PartsChange(at, current._replace(**changed), self.crossfade))
+
+        self.later(t, apply)
+
+    def do_wait(self, s: n.Wait, t: float) -> float:
+        return t + statement_seconds(s)
+
+    # -- the robot
+
+    def do_wobble(self, s: n.Wobble, t: float) -> float:
+        duration = move_seconds(s)
+        self.later(t, lambda at: self.pan_head(at, clamp_pan(s.angle), duration, s.timing.easing))
+        return t + duration
+
+    def cue(self, t: float, effect: fx.Effect) -> None:
+        self.later(t, lambda at: self.cues.append(Cue(at, effect)))
+
+    def do_nod(self, s: n.Nod, t: float) -> float:
+        seconds = statement_seconds(s)
+        self.cue(t, fx.HeadNod(seconds))
+        return t + seconds
+
+    def do_enable(self, s: n.Enable, t: float) -> float:
+        self.cue(t, fx.SetEnabled(True))
+        return t
+
+    def do_disable(self, s: n.Disable, t: float) -> float:
+        self.cue(t, fx.SetEnabled(False))
+        return t
+
+    def do_follow(self, s: n.Follow, t: float) -> float:
+        self.cue(t, fx.Follow(s.target, s.dynamic))
+        if s.target is None:  # stopping recentres the eyes, as the original did
+            self.later(t, lambda at: self.eyes.move(at, TIMING.look, (0.0, 0.0)))
+        return t
+
+    def do_say(self, s: n.Say, t: float) -> float:
+        from ..speech.visemes import mouth_track
+
+        utterance = self.speak(s.text, s.voice, s.rate)
+        said = Said(t, utterance, mouth_track(utterance))
+        self.later(t, lambda at: self.speech.append(said))
+        self.cue(t, fx.Speech(utterance))
+        return t + utterance.duration
+
+    def do_exit(self, s: n.Exit, t: float) -> float:
+        # The sleep face, fully faded in, is the last thing shown.
+        end = self.do_emotion(n.Emotion("sleep", pos=s.pos), t) + self.crossfade
+        self.cue(end, fx.Exit())
+        self.exit_at = end
+        return end
+
+
+# Each statement's handler, by its syntax-tree class: an explicit table, so a new statement is
+# one line here (and a test fails until it is).
+_HANDLERS: Dict[type, Callable[[_Compiler, Any, float], float]] = {
+    n.Repeat: _Compiler.do_repeat,
+    n.Together: _Compiler.do_together,
+    n.Call: _Compiler.do_call,
+    n.Define: _Compiler.do_define,
+    n.Emotion: _Compiler.do_emotion,
+    n.Look: _Compiler.do_look,
+    n.Blink: _Compiler.do_blink,
+    n.Eyelids: _Compiler.do_eyelids,
+    n.Skin: _Compiler.do_skin,
+    n.Mouth: _Compiler.do_mouth,
+    n.Brows: _Compiler.do_brows,
+    n.Wait: _Compiler.do_wait,
+    n.Wobble: _Compiler.do_wobble,
+    n.Nod: _Compiler.do_nod,
+    n.Enable: _Compiler.do_enable,
+    n.Disable: _Compiler.do_disable,
+    n.Follow: _Compiler.do_follow,
+    n.Say: _Compiler.do_say,
+    n.Exit: _Compiler.do_exit,
+}
+
+
+def head_speed(start: float, target: float, duration: float) -> float:
+    """The speed ratio that pans the head from `start` to `target` in `duration` seconds."""
+    if duration <= 0:
+        return HEAD_SPEED_RATIO[1]
+    low, high = HEAD_SPEED_RATIO
+    return min(high, max(low, abs(target - start) / duration / HEAD_TOP_SPEED))
+
+
+def compile_script(
+    script: n.Script,
+    seed: Optional[int] = 0,
+    start: Optional[FaceState] = None,
+    crossfade: Optional[float] = None,
+    speak: Optional[Speaker] = None,
+) -> Timeline:
+    """Compile a parsed script; the same script and seed give the same timeline.
+
+    Part swaps blend over `crossfade` seconds: by default CROSSFADE for a
+    script and none (a cut, as the old node did) for legacy commands. `say`
+    speaks through `speak`, by default the espeak-ng engine, which is only
+    loaded when a script says something (`extras.MissingTool` without it).
+    """
+    if crossfade is None:
+        crossfade = 0.0 if script.legacy else CROSSFADE
+    compiler = _Compiler(script, random.Random(seed), start or FaceState(), crossfade, speak or _engine_say)
+    end = compiler.sequence(script.body, 0.0)
+    for event in sorted(compiler.events, key=lambda e: (e.at, e.order)):
+        event.apply(event.at)
+    tails = [end, compiler.eyes.end, compiler.lids.end, compiler.head.end]
+    tails += [c.at + c.fade for c in compiler.parts]
+    tails += [c.at + c.effect.duration for c in compiler.cues]
+    duration = max(tails)
+    if compiler.exit_at is not None:
+        duration = compiler.exit_at
+    compiler.spans.sort(key=lambda s: (s.start, s.line))
+    return Timeline(
+        compiler.eyes,
+        compiler.lids,
+        compiler.head,
+        compiler.parts,
+        compiler.emotions,
+        compiler.cues,
+        compiler.spans,
+        duration,
+        start or FaceState(),
+        compiler.speech,
+    )
+
+
+def _engine_say(text: str, voice: Optional[str], rate: Optional[int]) -> Utterance:
+    from ..core.voices import DEFAULT_RATE, DEFAULT_VOICE
+    from ..speech.synthesis import engine
+
+    return engine().say(text, voice or DEFAULT_VOICE, rate or DEFAULT_RATE)
+
+
+def describe(s: Any) -> str:
+    """A statement in words, for `explain`."""
+
+    def timed(s: Any) -> str:
+        easing = s.timing.easing
+        return f" in {move_seconds(s):g}s" + ("" if easing == "linear" else f" {easing}")
+
+    if isinstance(s, n.Emotion):
+        return s.name
+    if isinstance(s, n.Look):
+        kind = "dynamic look" if s.dynamic else "look"
+        return f"{kind} {s.x:g} {s.y:g}{timed(s)}"
+    if isinstance(s, n.Wobble):
+        return f"wobble {fx.radians_and_degrees(s.angle)}{timed(s)}"
+    if isinstance(s, n.Eyelids):
+        return f"eyelids {s.openness:g}{timed(s)}"
+    if isinstance(s, n.Wait):
+        return f"wait {s.duration:g}s"
+    if isinstance(s, n.Skin):
+        return f"skin {s.index}"
+    if isinstance(s, (n.Mouth, n.Brows)):
+        return f"{type(s).__name__.lower()} {s.name}"
+    if isinstance(s, n.Say):
+        return (
+            f"say {fx.quoted(s.text)}"
+            + (f" voice {s.voice}" if s.voice else "")
+            + (f" rate {s.rate}" if s.rate else "")
+        )
+    if isinstance(s, n.Follow):
+        if s.target is None:
+            return "follow off"
+        return f"follow {s.target}" + (" dynamic" if s.dynamic else "")
+    return type(s).__name__.lower()

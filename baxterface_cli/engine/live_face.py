@@ -1,0 +1,154 @@
+"""A face that runs for as long as it is wanted, taking commands as they come.
+
+The face node is this plus ROS. Each command is parsed and compiled by the
+same engine as `play` and `render`, starting from the face as it is at that
+moment; it takes over from whatever was playing (or waits its turn, when
+queued). Idle blinks go on between and after commands. Robot effects (head,
+nod, enable, follow, exit) fall due as time passes and are handed out once;
+the robot's status (following, exited) carries over from script to script.
+"""
+
+from __future__ import annotations
+
+import random
+from collections import deque
+from typing import Deque, List, Optional
+
+from ..core.face_state import FaceState
+from ..core.tables import EMOTIONS
+from ..language.parser import parse
+from ..language.syntax_tree import Script
+from .animation import Idle
+from .compiler import compile_script
+from .effects import Cue, RobotStatus, StatusFold
+from .timeline import Timeline
+
+IDLE_AHEAD = 30.0  # seconds of idle blinks planned ahead of the clock
+MAX_QUEUE = 32  # scripts waiting their turn; more are refused
+
+
+def sleep_face() -> FaceState:
+    """The face the original node started with and ended on."""
+    spec = EMOTIONS["sleep"]
+    return FaceState(
+        skin=spec.skin, mouth=spec.mouths[0], brows=spec.brows[0], eyelids=spec.eyelids, emotion="sleep"
+    )
+
+
+class QueueFull(Exception):
+    """A queued script was refused: the queue holds as many as it may."""
+
+
+class LiveFace:
+    """Commands in, face states and robot effects out, on a clock the caller gives.
+
+    `command` parses, compiles and starts (or queues) a script in one call.
+    A caller that must not wait (the node's frame loop) splits it: `prepare`
+    parses and compiles, from any thread, and `begin` or `enqueue` hands the
+    result over, which is cheap. Queued timelines start from the face as the
+    one before them leaves it, so they are compiled exactly ahead of time.
+    """
+
+    def __init__(
+        self,
+        start: Optional[FaceState] = None,
+        idle: bool = True,
+        seed: Optional[int] = None,
+        now: float = 0.0,
+        max_queue: int = MAX_QUEUE,
+    ) -> None:
+        self.rng = random.Random(seed)
+        self.idle_on = idle
+        self.max_queue = max_queue
+        self.queue: Deque[Timeline] = deque()
+        self._robot = StatusFold()
+        self.begin(compile_script(parse(""), start=start or FaceState()), now)
+
+    # -- commands
+
+    def command(
+        self, text: str, now: float, queue: bool = False, filename: str = "display_chatter"
+    ) -> Script:
+        """Run `text` from now (or after what is playing, with `queue`); ScriptError if it is bad."""
+        script = parse(text, filename)
+        queued = queue and not self.finished(now)
+        timeline = self.prepare(script, self.queue_end() if queued else self.base_state(now))
+        if queued:
+            self.enqueue(timeline)
+        else:
+            self.begin(timeline, now)
+        return script
+
+    def prepare(self, script: Script, start: FaceState) -> Timeline:
+        """Compile `script` to start from `start`; safe from another thread."""
+        return compile_script(script, seed=self.rng.randrange(2**32), start=start)
+
+    def begin(self, timeline: Timeline, now: float) -> None:
+        """Play `timeline` from `now`, dropping what was playing and what was queued."""
+        self.queue.clear()
+        self._start(timeline, now)
+
+    def enqueue(self, timeline: Timeline) -> None:
+        """Play `timeline` after what is playing and queued; QueueFull if the queue is full."""
+        if len(self.queue) >= self.max_queue:
+            raise QueueFull(f"the queue is full ({self.max_queue} scripts)")
+        self.queue.append(timeline)
+
+    def queue_end(self) -> FaceState:
+        """The face as the last queued script (or the one playing) will leave it."""
+        last = self.queue[-1] if self.queue else self._playing[0]
+        return last.sample(last.duration)
+
+    def _start(self, timeline: Timeline, now: float) -> None:
+        # One assignment, so a reader on another thread sees the timeline and its start together.
+        self._playing = (timeline, now)
+        self.pending: List[Cue] = list(timeline.cues)
+        self.idle = Idle(timeline, seed=self.rng.randrange(2**32), until=IDLE_AHEAD) if self.idle_on else None
+
+    @property
+    def timeline(self) -> Timeline:
+        return self._playing[0]
+
+    @property
+    def started(self) -> float:
+        return self._playing[1]
+
+    def finished(self, now: float) -> bool:
+        timeline, started = self._playing
+        return now - started >= timeline.duration
+
+    # -- the face
+
+    def base_state(self, now: float) -> FaceState:
+        """The face the commands make, without idle blinks; safe from another thread."""
+        timeline, started = self._playing
+        return timeline.sample(now - started)
+
+    def state(self, now: float) -> FaceState:
+        """The face to show at `now`: the commands' face with idle life on top."""
+        if self.queue and self.finished(now):
+            self._start(self.queue.popleft(), self.started + self.timeline.duration)
+        state = self.base_state(now)
+        if self.idle is not None:
+            t = now - self.started
+            self.idle.extend(t + IDLE_AHEAD)  # cheap: it plans only past what it has
+            state = self.idle.apply(t, state, darts=self.robot.following is None)
+        return state
+
+    @property
+    def robot(self) -> RobotStatus:
+        """The robot's status as the effects handed out so far left it (times on the caller's clock)."""
+        return self._robot.status
+
+    @property
+    def exited(self) -> bool:
+        return self.robot.exited
+
+    def due(self, now: float) -> List[Cue]:
+        """Robot effects whose time has come since the last call, each handed out once."""
+        t = now - self.started
+        ready = [c for c in self.pending if c.at <= t]
+        self.pending = [c for c in self.pending if c.at > t]
+        for cue in ready:  # on the caller's clock: the status outlives the script that set it
+            cue.effect.visit(self._robot, self.started + cue.at)
+        return ready

@@ -1,0 +1,231 @@
+"""A timeline: tracks of timed changes, and the face state they give at any time t.
+
+The compiler (compiler.py) fills the tracks: eyes (x, y), lids, head pan, the
+parts, the emotion's name, speech and the robot cues. `Timeline.sample(t)`
+is then a pure lookup.
+"""
+
+from __future__ import annotations
+
+import bisect
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any, Callable, Dict, List, NamedTuple, Optional, Tuple
+
+from ..core.easing import EASINGS, Easing
+from ..core.face_state import FaceState, Parts
+from ..core.tables import REST, viseme_mouth
+from .effects import Cue, RobotStatus, StatusFold
+
+if TYPE_CHECKING:
+    from ..speech.synthesis import Utterance
+    from ..speech.visemes import MouthKey
+
+# Speaks text in a voice (None: the default) at a rate (None: the default).
+Speaker = Callable[[str, Optional[str], Optional[int]], "Utterance"]
+
+CROSSFADE = 0.15  # seconds a script's part swap blends over; 0 cuts
+
+
+class Piece(NamedTuple):
+    """A track moving from `start_value` to `end_value` over [start, end).
+
+    A move interrupted at `until` holds the value its curve had reached
+    then; the curve itself is kept, so an eased move is cut, not reshaped.
+    """
+
+    start: float
+    end: float
+    start_value: Any
+    end_value: Any
+    easing: Easing  # looked up once, when the move is made: sampling only calls it
+    until: float = float("inf")
+
+    def at(self, t: float) -> Any:
+        t = min(t, self.until)
+        if t >= self.end or self.end <= self.start:
+            return self.end_value
+        progress = self.easing((t - self.start) / (self.end - self.start))
+        return _mix(self.start_value, self.end_value, progress)
+
+    @property
+    def stop(self) -> float:
+        return min(self.end, self.until)
+
+
+class Track:
+    """One animated value: held between pieces, eased within them."""
+
+    def __init__(self, initial: Any) -> None:
+        self.initial = initial
+        self.pieces: List[Piece] = []
+        self._starts: List[float] = []
+
+    def value(self, t: float) -> Any:
+        i = bisect.bisect_right(self._starts, t) - 1
+        return self.initial if i < 0 else self.pieces[i].at(t)
+
+    def move(self, start: float, duration: float, target: Any, easing: str = "linear") -> None:
+        """From wherever the track is at `start`, move to `target`; later pieces give way."""
+        current = self.value(start)
+        i = bisect.bisect_left(self._starts, start)
+        if i > 0 and self.pieces[i - 1].stop > start:  # interrupt the move under way
+            self.pieces[i - 1] = self.pieces[i - 1]._replace(until=start)
+        del self.pieces[i:], self._starts[i:]  # and drop moves queued after it
+        self.pieces.append(Piece(start, start + max(0.0, duration), current, target, EASINGS[easing]))
+        self._starts.append(start)
+
+    def busy(self, start: float, end: float) -> bool:
+        """Does any piece move the track during [start, end)?"""
+        return any(p.start < end and start < p.stop for p in self.pieces)
+
+    @property
+    def end(self) -> float:
+        return self.pieces[-1].stop if self.pieces else 0.0
+
+
+def _mix(a: Any, b: Any, u: float) -> Any:
+    if isinstance(a, tuple):
+        return tuple(x + (y - x) * u for x, y in zip(a, b))
+    return a + (b - a) * u
+
+
+class PartsChange(NamedTuple):
+    at: float
+    parts: Parts
+    fade: float  # seconds
+
+
+class Said(NamedTuple):
+    """An utterance the face says from `at`, with the mouth shapes that go with it."""
+
+    at: float
+    utterance: Utterance
+    mouth: Tuple[MouthKey, ...]
+
+    @property
+    def end(self) -> float:
+        return self.at + self.utterance.duration
+
+
+class Span(NamedTuple):
+    """What one statement does, for `explain`."""
+
+    start: float
+    end: float
+    line: int
+    text: str
+
+
+@dataclass
+class Timeline:
+    """A compiled script: tracks, part changes, emotions, robot cues and a length."""
+
+    eyes: Track
+    lids: Track
+    head: Track
+    parts: List[PartsChange]
+    emotions: List[Tuple[float, str]]  # (when asked for, name), in time order
+    cues: List[Cue]  # robot effects, in time order
+    spans: List[Span]
+    duration: float
+    initial: FaceState
+    speech: List[Said] = field(default_factory=list)  # in time order
+    _part_times: List[float] = field(default_factory=list, repr=False)
+    _emotion_times: List[float] = field(default_factory=list, repr=False)
+    _speech_times: List[float] = field(default_factory=list, repr=False)
+
+    def __post_init__(self) -> None:
+        self._part_times = [c.at for c in self.parts]
+        self._emotion_times = [at for at, _ in self.emotions]
+        self._speech_times = [said.at for said in self.speech]
+
+    def sample(self, t: float) -> FaceState:
+        """The face at time t (seconds from the start): pure, the same every call."""
+        state = self._sample_parts(t)
+        said = self._said(t)
+        return state if said is None else _speaking(state, said, t)
+
+    def _said(self, t: float) -> Optional[Said]:
+        """The utterance being said at t: the latest begun, if it is still going."""
+        i = bisect.bisect_right(self._speech_times, t) - 1
+        if i >= 0 and t < self.speech[i].end:
+            return self.speech[i]
+        return None
+
+    def sounding(self, t: float) -> List[Said]:
+        """Every utterance heard at t, earliest first: a `together`'s overlap, as the sound mixes them."""
+        i = bisect.bisect_right(self._speech_times, t)
+        return [said for said in self.speech[:i] if t < said.end]
+
+    def _sample_parts(self, t: float) -> FaceState:
+        x, y = self.eyes.value(t)
+        i = bisect.bisect_right(self._emotion_times, t) - 1
+        state = self.initial.replace(
+            eye_x=x,
+            eye_y=y,
+            eyelids=self.lids.value(t),
+            head_pan=self.head.value(t),
+            emotion=self.emotions[i][1] if i >= 0 else self.initial.emotion,
+        )
+        i = bisect.bisect_right(self._part_times, t) - 1
+        if i < 0:
+            return state
+        change = self.parts[i]
+        state = state.with_parts(change.parts)
+        elapsed = t - change.at
+        if elapsed < change.fade - 1e-9:  # the end of a fade, up to float rounding, is no fade
+            before = self.parts[i - 1].parts if i > 0 else self.initial.parts
+            if before != change.parts:
+                return state.replace(fade_from=before, fade=elapsed / change.fade)
+        return state.replace(fade_from=None, fade=1.0)
+
+    def status(self, t: float, start: Optional[RobotStatus] = None) -> RobotStatus:
+        """The robot's status at t: `start` with every cue up to t folded in."""
+        fold = StatusFold(start)
+        for cue in self.cues:
+            if cue.at > t:
+                break
+            cue.effect.visit(fold, cue.at)
+        return fold.status
+
+    def frame_times(self, fps: float) -> List[float]:
+        """Frame times from 0 through the end, the last frame at the end itself."""
+        count = int(self.duration * fps + 1e-9) + 1
+        return [i / fps for i in range(count)]
+
+
+def _speaking(state: FaceState, said: Said, t: float) -> FaceState:
+    """The face with the speech shape at t for its mouth; the rest of the face goes on.
+
+    A tween between two shapes uses the crossfade; during an emotion's own
+    crossfade, both sides of it show the shape, and the emotion's fade wins.
+    """
+    from ..speech.visemes import shape_at
+
+    shape, tween_from, progress = shape_at(said.mouth, t - said.at)
+
+    def mouth(parts: Parts, name: str) -> Parts:
+        return parts._replace(mouth=parts.mouth if name == REST else viseme_mouth(name))
+
+    now = mouth(state.parts, shape)
+    if state.fade_from is not None:
+        return state.with_parts(now).replace(fade_from=mouth(state.fade_from, shape))
+    if tween_from is not None and progress < 1.0:
+        before = mouth(state.parts, tween_from)
+        if before != now:
+            return state.with_parts(now).replace(fade_from=before, fade=progress)
+    return state.with_parts(now)
+
+
+def state_record(t: float, state: FaceState, status: RobotStatus) -> Dict[str, Any]:
+    """One frame of `explain --json`: the whole face state and robot status."""
+    return {
+        "t": round(t, 6),
+        **state.as_record(),
+        "enabled": status.enabled,
+        "following": status.following,
+        "follow_dynamic": status.follow_dynamic,
+        "nodding": status.nodding(t),
+        "exited": status.exited,
+        "saying": status.speaking(t),
+    }

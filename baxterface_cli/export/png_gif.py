@@ -1,0 +1,218 @@
+"""Sinks that write frames to image files: a PNG image, numbered PNGs, animated GIFs.
+
+Every file is written beside its final name (see partial.py) and renamed
+into place when complete, so an interrupted render leaves no half-written
+file behind, and two renders to one name leave one of them, whole.
+"""
+
+from __future__ import annotations
+
+import io
+import os
+import re
+from contextlib import contextmanager
+from pathlib import Path
+from typing import Iterable, Iterator, Optional, Tuple
+
+import numpy as np
+from PIL import GifImagePlugin, Image
+
+from ..core import partial_files as partial
+from ..core.partial_files import write_atomic
+from .sink import FrameSink
+
+TRANSPARENT = 255  # the GIF palette index meaning "as in the frame before"
+LUT_BITS = 5  # colour bits per channel of the palette lookup
+
+
+def write_png(path: Path, frame_bgr: np.ndarray) -> None:
+    """One frame as a PNG image, written atomically."""
+    data = io.BytesIO()
+    Image.fromarray(np.ascontiguousarray(frame_bgr[..., ::-1]), "RGB").save(
+        data, format="PNG", compress_level=6
+    )
+    write_atomic(path, data.getvalue())
+
+
+class PngStill(FrameSink):
+    """One frame as a PNG image: the last one given."""
+
+    def __init__(self, path: Path) -> None:
+        self.path = path
+        self.frame: Optional[np.ndarray] = None
+
+    def add(self, frame_bgr: np.ndarray, t: float = 0.0) -> None:
+        self.frame = frame_bgr
+
+    def close(self) -> None:
+        assert self.frame is not None, "a still needs a frame"
+        write_png(self.path, self.frame)
+
+    def abort(self) -> None:
+        pass  # nothing is written before close
+
+
+FRAME_NAME = re.compile(r"^frame_\d{5,}\.png$")  # what PngFolder writes, and all it replaces
+
+
+class PngFolder(FrameSink):
+    """Numbered PNG frames (frame_00000.png, ...) in a folder.
+
+    Frames go to a hidden folder beside the target first and move in only
+    when the render finishes, replacing the frames of any render before.
+    """
+
+    def __init__(self, folder: Path) -> None:
+        self.folder = folder
+        folder.parent.mkdir(parents=True, exist_ok=True)
+        self.staging = partial.create_folder(folder)
+        self.count = 0
+
+    def add(self, frame_bgr: np.ndarray, t: float = 0.0) -> None:
+        rgb = np.ascontiguousarray(frame_bgr[..., ::-1])
+        Image.fromarray(rgb, "RGB").save(self.staging / f"frame_{self.count:05d}.png", compress_level=6)
+        self.count += 1
+
+    def close(self) -> None:
+        self.folder.mkdir(parents=True, exist_ok=True)
+        with _locked(self.folder):  # two renders into one folder must not mix their frames
+            for old in os.listdir(self.folder):
+                if FRAME_NAME.match(old):
+                    (self.folder / old).unlink()
+            for path in sorted(self.staging.iterdir()):
+                os.replace(path, self.folder / path.name)
+        self.staging.rmdir()
+
+    def abort(self) -> None:
+        partial.remove(self.staging)
+
+
+@contextmanager
+def _locked(folder: Path) -> Iterator[None]:
+    """Hold an exclusive lock on `folder` (where the system has flock)."""
+    try:
+        import fcntl
+    except ImportError:
+        yield
+        return
+    fd = os.open(str(folder), os.O_RDONLY)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX)
+        yield
+    finally:
+        os.close(fd)
+
+
+def build_palette(frames_rgb: Iterable[np.ndarray], colours: int = 255) -> np.ndarray:
+    """One palette for a whole animation, from frames that show its colours."""
+    tiles = [Image.fromarray(f, "RGB").reduce(2) for f in frames_rgb]
+    mosaic = Image.new("RGB", (tiles[0].width, tiles[0].height * len(tiles)))
+    for i, tile in enumerate(tiles):
+        mosaic.paste(tile, (0, i * tiles[0].height))
+    quantized = mosaic.quantize(colors=colours, method=Image.MEDIANCUT, dither=Image.NONE)
+    used = len(quantized.getcolors(colours + 1) or [])
+    return np.array(quantized.getpalette()[: 3 * max(used, 1)], np.uint8).reshape(-1, 3)
+
+
+def palette_lookup(palette: np.ndarray) -> np.ndarray:
+    """A table from 5-bit B, G, R to the nearest palette index."""
+    levels = (np.arange(1 << LUT_BITS) << (8 - LUT_BITS)) + (1 << (7 - LUT_BITS))
+    b, g, r = np.meshgrid(levels, levels, levels, indexing="ij")
+    cube = np.stack([r.ravel(), g.ravel(), b.ravel()], axis=1).astype(np.int32)
+    best = np.zeros(len(cube), np.uint8)
+    best_d = np.full(len(cube), np.iinfo(np.int32).max, np.int64)
+    for i, colour in enumerate(palette.astype(np.int32)):
+        d = ((cube - colour) ** 2).sum(axis=1)
+        closer = d < best_d
+        best[closer], best_d[closer] = i, d[closer]
+    side = 1 << LUT_BITS
+    return best.reshape(side, side, side)
+
+
+class GifWriter(FrameSink):
+    """An animated, looping GIF, written as frames arrive.
+
+    All frames share one palette (the face has few colours). Each frame
+    stores only the rectangle that changed, and inside it pixels that did not
+    change are transparent, which compresses to almost nothing. Identical
+    frames merge into a longer one. Delays are in the GIF's 1/100 s, rounded
+    so that they add up to the true time.
+    """
+
+    def __init__(self, path: Path, size: Tuple[int, int], fps: float, palette: np.ndarray) -> None:
+        self.path = path
+        self.fps = fps
+        self.lut = palette_lookup(palette)
+        self.shift = 8 - LUT_BITS
+        padded = np.zeros((256, 3), np.uint8)
+        padded[: len(palette)] = palette
+        self.palette_bytes = padded.tobytes()
+        self.tmp, self.file = partial.create_file(path)  # closed in close() or abort()
+        template = Image.new("P", size)
+        template.putpalette(self.palette_bytes)
+        header, _ = GifImagePlugin.getheader(template, self.palette_bytes, {"loop": 0})
+        try:
+            for chunk in header:
+                self.file.write(chunk)
+        except BaseException:
+            self.abort()
+            raise
+        self.previous_bgr: Optional[np.ndarray] = None
+        self.previous_index: Optional[np.ndarray] = None
+        self.pending: Optional[Tuple[Image.Image, Tuple[int, int], bool]] = None
+        self.frames = 0  # frames given
+        self.written_centis = 0
+
+    def _index(self, bgr: np.ndarray) -> np.ndarray:
+        s = self.shift
+        return self.lut[bgr[..., 0] >> s, bgr[..., 1] >> s, bgr[..., 2] >> s]
+
+    def add(self, frame_bgr: np.ndarray, t: float = 0.0) -> None:
+        if self.previous_bgr is None:
+            index = self._index(frame_bgr)
+            self.previous_bgr, self.previous_index = frame_bgr.copy(), index
+            self._queue(index, (0, 0), transparent=False)
+        else:
+            changed = frame_bgr != self.previous_bgr
+            rows = np.flatnonzero(changed.any(axis=(1, 2)))
+            if rows.size:
+                cols = np.flatnonzero(changed[rows[0] : rows[-1] + 1].any(axis=(0, 2)))
+                y0, y1, x0, x1 = rows[0], rows[-1] + 1, cols[0], cols[-1] + 1
+                crop = self._index(frame_bgr[y0:y1, x0:x1])
+                before = self.previous_index[y0:y1, x0:x1]
+                emitted = np.where(crop == before, np.uint8(TRANSPARENT), crop)
+                before[...] = crop
+                self.previous_bgr[y0:y1, x0:x1] = frame_bgr[y0:y1, x0:x1]
+                self._queue(emitted, (int(x0), int(y0)), transparent=True)
+        self.frames += 1
+
+    def _queue(self, index: np.ndarray, offset: Tuple[int, int], transparent: bool) -> None:
+        self._flush()
+        image = Image.fromarray(np.ascontiguousarray(index), "P")
+        image.putpalette(self.palette_bytes)
+        self.pending = (image, offset, transparent)
+
+    def _flush(self) -> None:
+        """Write the pending frame, which lasted until the current frame count."""
+        if self.pending is None:
+            return
+        image, offset, transparent = self.pending
+        until = int(round(self.frames * 100 / self.fps))
+        centis = max(until - self.written_centis, 2)  # browsers treat < 2 as 10
+        self.written_centis += centis
+        params = {"duration": centis * 10, "disposal": 1}
+        if transparent:
+            params["transparency"] = TRANSPARENT
+        for chunk in GifImagePlugin.getdata(image, offset, **params):
+            self.file.write(chunk)
+        self.pending = None
+
+    def close(self) -> None:
+        self._flush()
+        self.file.write(b";")
+        self.file.close()
+        os.replace(self.tmp, self.path)
+
+    def abort(self) -> None:
+        self.file.close()
+        partial.remove(self.tmp)

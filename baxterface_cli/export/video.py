@@ -1,0 +1,223 @@
+"""MP4 (H.264), WebM (VP9) and animated WebP, through PyAV, or an `ffmpeg` program without it.
+
+Frames are numbered, 1/fps apart, so a video lasts exactly as many frames as
+it was given. Video pixels go out as yuv420p, what every player and browser
+plays; WebP is lossless. (Pillow's WebP writer holds every frame in memory
+until the end: over a gigabyte for a 20-second show at 1024x600.)
+A script's sound (speech) joins as an audio track: `Export.audio`, mono
+16-bit samples and their rate, is encoded beside the frames (AAC in MP4,
+Opus in WebM).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import shutil
+import subprocess
+import tempfile
+from fractions import Fraction
+from pathlib import Path
+from typing import Any, Dict, List, NamedTuple, Optional
+
+import numpy as np
+
+from ..core import partial_files as partial
+from ..extras import MissingTool
+from ..speech.soundtrack import resample, write_wav
+from .sink import Export, FormatError, FrameSink
+
+
+class Codec(NamedTuple):
+    container: str  # the muxer's name
+    video: str  # the encoder
+    audio: str  # the encoder for sound, "" for none
+    options: Dict[str, str]  # encoder settings: fast, and good enough to share
+    ffmpeg: List[str]  # the same, and the muxer's, as ffmpeg arguments
+    pix_fmt: str = "yuv420p"  # what every player and browser plays
+    muxer: Dict[str, str] = {}
+    audio_rate: int = 0  # the rate the sound encoder takes; 0: the sound's own
+
+
+CODECS = {
+    "h264": Codec(
+        "mp4", "libx264", "aac", {"preset": "veryfast", "crf": "23"}, ["-preset", "veryfast", "-crf", "23"]
+    ),
+    "vp9": Codec(
+        "webm",
+        "libvpx-vp9",
+        "libopus",
+        {"deadline": "realtime", "cpu-used": "8", "row-mt": "1", "crf": "32", "b": "0"},
+        ["-deadline", "realtime", "-cpu-used", "8", "-row-mt", "1", "-crf", "32", "-b:v", "0"],
+        audio_rate=48000,  # Opus refuses espeak-ng's 22050
+    ),
+    # Lossless, from full-colour pixels: no palette, no chroma subsampling.
+    "webp": Codec(
+        "webp",
+        "libwebp_anim",
+        "",
+        {"lossless": "1", "compression_level": "3"},
+        ["-lossless", "1", "-compression_level", "3", "-loop", "0"],
+        pix_fmt="bgra",
+        muxer={"loop": "0"},
+    ),
+}
+
+
+def open_video_writer(path: Path, export: Export, codec: str) -> FrameSink:
+    """A writer for `codec`: PyAV's if it is installed, else one that pipes to `ffmpeg`."""
+    width, height = export.size
+    if CODECS[codec].pix_fmt == "yuv420p" and (width % 2 or height % 2):
+        raise FormatError(f"video needs an even width and height, not {width}x{height} (see --size)")
+    try:
+        import av  # noqa: F401
+    except ImportError:
+        program = shutil.which("ffmpeg")
+        if program is None:
+            raise MissingTool(
+                f"writing {path.suffix} video needs PyAV (pip install 'baxterface[video]') "
+                "or an ffmpeg program on PATH (apt install ffmpeg)"
+            ) from None
+        return FfmpegVideo(path, export, CODECS[codec], program)
+    return PyAvVideo(path, export, CODECS[codec])
+
+
+def _rate(fps: float) -> Fraction:
+    return Fraction(fps).limit_denominator(1001)
+
+
+class PyAvVideo(FrameSink):
+    """Frames encoded in this process by PyAV (FFmpeg's libraries)."""
+
+    def __init__(self, path: Path, export: Export, codec: Codec) -> None:
+        import av
+
+        self.path = path
+        self.export = export
+        # Written through the file we created, never reopened by name. (So no
+        # `faststart`, which reopens it: the index comes last, as players expect.)
+        self.tmp, self.file = partial.create_file(path)
+        try:
+            self.container = av.open(
+                self.file, mode="w", format=codec.container, container_options=codec.muxer
+            )
+            rate = _rate(export.fps)
+            self.stream = self.container.add_stream(codec.video, rate=rate, options=codec.options)
+            self.stream.width, self.stream.height = export.size
+            self.stream.pix_fmt = codec.pix_fmt
+            self.audio = None
+            if export.audio is not None and codec.audio:
+                samples, rate = export.audio
+                self.sound = (resample(samples, rate, codec.audio_rate), codec.audio_rate or rate)
+                self.audio = self.container.add_stream(codec.audio, rate=self.sound[1])
+        except BaseException:
+            self.abort()
+            raise
+        self.count = 0
+
+    def add(self, frame_bgr: np.ndarray, t: float = 0.0) -> None:
+        import av
+
+        frame = av.VideoFrame.from_ndarray(np.ascontiguousarray(frame_bgr), format="bgr24")
+        frame.pts = self.count
+        self.count += 1
+        for packet in self.stream.encode(frame):
+            self.container.mux(packet)
+
+    def _encode_audio(self) -> None:
+        import av
+
+        samples, rate = self.sound
+        stream = self.audio
+        size = stream.codec_context.frame_size or 1024
+        mono = np.asarray(samples, np.int16)
+        layout = "mono"
+        for start in range(0, len(mono), size):
+            chunk = mono[start : start + size]
+            frame = av.AudioFrame.from_ndarray(chunk.reshape(1, -1), format="s16", layout=layout)
+            frame.sample_rate = rate
+            frame.pts = start
+            for packet in stream.encode(frame):
+                self.container.mux(packet)
+        for packet in stream.encode(None):
+            self.container.mux(packet)
+
+    def close(self) -> None:
+        for packet in self.stream.encode(None):
+            self.container.mux(packet)
+        if self.audio is not None:
+            self._encode_audio()
+        self.container.close()
+        self.file.close()
+        os.replace(self.tmp, self.path)
+
+    def abort(self) -> None:
+        try:
+            container = getattr(self, "container", None)
+            if container is not None:
+                container.close()
+        except Exception:  # half-written: closing may fail; the file goes anyway
+            pass
+        self.file.close()
+        partial.remove(self.tmp)
+
+
+class FfmpegVideo(FrameSink):
+    """Frames piped as raw BGR to an `ffmpeg` program, which encodes and writes them."""
+
+    def __init__(self, path: Path, export: Export, codec: Codec, program: str) -> None:
+        self.path = path
+        self.tmp, file = partial.create_file(path)  # ffmpeg writes into it by name
+        file.close()
+        self.sound: Optional[str] = None
+        width, height = export.size
+        args = [program, "-hide_banner", "-loglevel", "error", "-nostdin", "-y"]
+        args += ["-f", "rawvideo", "-pix_fmt", "bgr24", "-s", f"{width}x{height}"]
+        args += ["-framerate", str(_rate(export.fps)), "-i", "pipe:0"]
+        if export.audio is not None and codec.audio:
+            self.sound = _wav_file(*export.audio)
+            args += ["-i", self.sound, "-c:a", codec.audio]
+        args += ["-c:v", codec.video, *codec.ffmpeg, "-pix_fmt", codec.pix_fmt]
+        args += ["-f", codec.container, str(self.tmp)]
+        self.process: Any = subprocess.Popen(
+            args, stdin=subprocess.PIPE, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE
+        )
+
+    def add(self, frame_bgr: np.ndarray, t: float = 0.0) -> None:
+        try:
+            self.process.stdin.write(np.ascontiguousarray(frame_bgr).tobytes())
+        except BrokenPipeError:
+            self._finish()  # raises with what ffmpeg said
+
+    def _finish(self) -> None:
+        with contextlib.suppress(BrokenPipeError):
+            self.process.stdin.close()
+        error = self.process.stderr.read().decode("utf-8", "replace").strip()
+        if self.process.wait() != 0:
+            last = error.splitlines()[-1] if error else f"exit code {self.process.returncode}"
+            raise OSError(f"ffmpeg failed: {last}")
+
+    def close(self) -> None:
+        self._finish()
+        self._forget_sound()
+        os.replace(self.tmp, self.path)
+
+    def abort(self) -> None:
+        if self.process.poll() is None:
+            self.process.kill()
+            self.process.wait()
+        self._forget_sound()
+        partial.remove(self.tmp)
+
+    def _forget_sound(self) -> None:
+        if self.sound:
+            os.unlink(self.sound)
+            self.sound = None
+
+
+def _wav_file(samples: np.ndarray, rate: int) -> str:
+    """The samples as a mono 16-bit WAV file of our own, for ffmpeg to read."""
+    fd, name = tempfile.mkstemp(suffix=".wav", prefix="baxterface-")
+    with os.fdopen(fd, "wb") as f:
+        write_wav(f, samples, rate)
+    return name

@@ -1,0 +1,83 @@
+"""Text -> syntax tree, with every check done on the way: `parse` and `parse_file`.
+
+The text is read and held to its limits (source.py), parsed by the grammar
+(grammar/face.lark) with a builder that makes the syntax tree's dataclasses as
+lark reduces (builder.py), recovering from syntax errors so that one run shows
+every problem (recovery.py), then checked as a whole (checker.py).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any, List, Optional, Tuple, Union
+
+from ..core.tables import LIMITS
+from . import syntax_tree as n
+from .builder import _parser, grammar
+from .checker import check
+from .diagnostics import Diagnostic, ScriptError, keep_first
+from .recovery import _close_braces, _parse_recovering, _unshifted
+from .source import _past_piece_limit, _size, decode, read_bounded
+
+__all__ = ["grammar", "grammar_words", "parse", "parse_file", "read_bounded", "decode"]
+
+
+def parse(text: str, filename: str = "<script>") -> n.Script:
+    """Parse and check a script; raise one ScriptError carrying the diagnostics.
+
+    At most `LIMITS.max_shown` diagnostics are kept (errors first); the rest
+    are counted, so a flood of problems stays cheap to report.
+    """
+    diagnostics: List[Diagnostic] = []
+    body: Tuple[Any, ...] = ()
+    legacy = False
+    size = _size(text)
+    if size > LIMITS.max_bytes:
+        message = f"script is too large ({size} bytes; the limit is {LIMITS.max_bytes})"
+        diagnostics.append(Diagnostic(0, 0, message))
+    else:
+        too_long = _past_piece_limit(text)
+        if too_long is not None:
+            diagnostics.append(too_long)
+        else:
+            body, legacy = _build(text, diagnostics)
+    shown, more_errors, more_warnings = keep_first(diagnostics)
+    if more_errors or any(d.severity == "error" for d in shown):
+        raise ScriptError(shown, filename, text, more_errors, more_warnings)
+    return n.Script(body, filename, tuple(shown), text, legacy, more_warnings)
+
+
+def _build(text: str, diagnostics: List[Diagnostic]) -> Tuple[Tuple[Any, ...], bool]:
+    """The AST and whether it is legacy spelling; every problem goes to `diagnostics`."""
+    braces, closed, virtual = _close_braces(text)
+    diagnostics.extend(braces)
+    if virtual is None:
+        return (), False
+    found: List[Diagnostic] = []
+    builder = _parser().builder
+    builder.begin(closed, lambda line: _unshifted(line, virtual) or line)
+    statements = _parse_recovering(closed, found)
+    for d in found:
+        line = _unshifted(d.line, virtual) if d.line else 0
+        if line is not None:  # None: on a '}' we added, so the user's text is not at fault
+            diagnostics.append(d._replace(line=line))
+    if statements is None:
+        return (), False
+    body = tuple(statements)
+    diagnostics.extend(check(body))
+    return body, builder.legacy_spelling(body)
+
+
+def parse_file(path: Union[str, Path, Any], display_name: Optional[str] = None) -> n.Script:
+    """Read a script file or binary stream (UTF-8, bounded in size) and parse it."""
+    name = display_name or str(path)
+    text = decode(read_bounded(path, name), name)
+    return parse(text, name)
+
+
+def grammar_words() -> List[str]:
+    """Every word the grammar spells out (`look`, `in`, `voice`, ...), for editors to colour."""
+    from lark.lexer import PatternStr
+
+    patterns = (terminal.pattern for terminal in grammar().terminals)
+    return sorted({p.value.lower() for p in patterns if isinstance(p, PatternStr) and p.value.isalpha()})

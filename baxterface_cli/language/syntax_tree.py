@@ -1,0 +1,236 @@
+"""The script's syntax tree: small frozen dataclasses.
+
+Every node carries its source position (line and column, both from 1), but
+positions take no part in equality: `look_40_-20_0.5` and
+`look 40 -20 in 0.5s` are equal nodes because they mean the same thing.
+A timed move's duration and easing are one `Timing` value; a duration left
+to the default is None, so a legacy command and its script spelling stay
+equal whatever the default is.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass, field
+from typing import Any, Dict, Optional, Tuple
+
+from ..core.tables import FollowTarget
+
+
+class Pos:
+    """Where a node starts in its source text."""
+
+    __slots__ = ("line", "column")
+
+    def __init__(self, line: int = 0, column: int = 0) -> None:
+        self.line = line
+        self.column = column
+
+    def __repr__(self) -> str:
+        return f"{self.line}:{self.column}"
+
+
+NOWHERE = Pos()
+
+
+def _pos() -> Any:
+    return field(default=NOWHERE, compare=False, repr=False)
+
+
+class Statement:
+    """A statement of the language; every statement node is one. Blocks hold statements."""
+
+    __slots__ = ()
+    pos: Pos
+
+
+class Block(Statement):
+    """A statement that holds others: `repeat`, `together`, `define`."""
+
+    __slots__ = ()
+    body: Tuple[Statement, ...]
+
+
+@dataclass(frozen=True)
+class Timing:
+    """How a move is timed: `in T` (None leaves the statement's default) and its easing.
+
+    `durations.move_seconds` resolves the default, for the compiler, the
+    checker and `explain` alike.
+    """
+
+    duration: Optional[float] = None
+    easing: str = "linear"
+
+
+@dataclass(frozen=True)
+class Emotion(Statement):
+    """An emotion, `sleep` or `wake up`: lids first, then skin, mouth and brows."""
+
+    name: str
+    pos: Pos = _pos()
+
+
+@dataclass(frozen=True)
+class Look(Statement):
+    """Move the eyes (and with `dynamic`, the head) toward x, y."""
+
+    x: float
+    y: float
+    timing: Timing = Timing()
+    dynamic: bool = False
+    pos: Pos = _pos()
+
+
+@dataclass(frozen=True)
+class Blink(Statement):
+    pos: Pos = _pos()
+
+
+@dataclass(frozen=True)
+class Wait(Statement):
+    duration: float
+    pos: Pos = _pos()
+
+
+@dataclass(frozen=True)
+class Wobble(Statement):
+    """Pan the head to `angle` radians."""
+
+    angle: float
+    timing: Timing = Timing()
+    pos: Pos = _pos()
+
+
+@dataclass(frozen=True)
+class Nod(Statement):
+    pos: Pos = _pos()
+
+
+@dataclass(frozen=True)
+class Enable(Statement):
+    pos: Pos = _pos()
+
+
+@dataclass(frozen=True)
+class Disable(Statement):
+    pos: Pos = _pos()
+
+
+@dataclass(frozen=True)
+class Exit(Statement):
+    pos: Pos = _pos()
+
+
+@dataclass(frozen=True)
+class Skin(Statement):
+    index: int
+    pos: Pos = _pos()
+
+
+@dataclass(frozen=True)
+class Mouth(Statement):
+    name: str
+    pos: Pos = _pos()
+
+
+@dataclass(frozen=True)
+class Brows(Statement):
+    name: str
+    pos: Pos = _pos()
+
+
+@dataclass(frozen=True)
+class Eyelids(Statement):
+    """Move the lids to `openness`: 0 closed .. 1 open."""
+
+    openness: float
+    timing: Timing = Timing()
+    pos: Pos = _pos()
+
+
+@dataclass(frozen=True)
+class Follow(Statement):
+    """Start following `target` ("human", "face", "left arm", "right arm"); None stops."""
+
+    target: Optional[FollowTarget]
+    dynamic: bool = False
+    pos: Pos = _pos()
+
+
+@dataclass(frozen=True)
+class Say(Statement):
+    """Speak `text`; None leaves the voice or rate (words a minute) to the default."""
+
+    text: str
+    voice: Optional[str] = None
+    rate: Optional[int] = None
+    pos: Pos = _pos()
+
+
+@dataclass(frozen=True)
+class Repeat(Block):
+    count: int
+    body: Tuple[Statement, ...]
+    pos: Pos = _pos()
+
+
+@dataclass(frozen=True)
+class Together(Block):
+    """Run the children in parallel; lasts as long as the longest."""
+
+    body: Tuple[Statement, ...]
+    pos: Pos = _pos()
+
+
+@dataclass(frozen=True)
+class Define(Block):
+    name: str
+    body: Tuple[Statement, ...]
+    pos: Pos = _pos()
+
+
+@dataclass(frozen=True)
+class Call(Statement):
+    """Run a `define`d block by name."""
+
+    name: str
+    pos: Pos = _pos()
+
+
+@dataclass(frozen=True)
+class Script:
+    body: Tuple[Statement, ...]
+    filename: str = field(default="<script>", compare=False)
+    warnings: Tuple[Any, ...] = field(default=(), compare=False, repr=False)
+    source: str = field(default="", compare=False, repr=False)
+    # Written wholly in the old node's commands (`happy`, `look_40_-20_0.5`):
+    # played the way the old node played them, with hard cuts.
+    legacy: bool = field(default=False, compare=False)
+    # Warnings beyond the first few (see `Limits.max_shown`): only counted.
+    more_warnings: int = field(default=0, compare=False, repr=False)
+
+    @property
+    def definitions(self) -> Dict[str, Define]:
+        return {s.name: s for s in self.body if isinstance(s, Define)}
+
+
+BLOCKS = (Repeat, Together, Define)
+
+
+def to_json(node: Any) -> Any:
+    """A JSON-ready view of a node: `type`, its fields, `line` and `column`."""
+    if isinstance(node, tuple):
+        return [to_json(child) for child in node]
+    if not dataclasses.is_dataclass(node):
+        return node
+    out: Dict[str, Any] = {"type": type(node).__name__}
+    for f in dataclasses.fields(node):
+        if f.name in ("pos", "warnings", "source", "legacy", "more_warnings"):
+            continue
+        out[f.name] = to_json(getattr(node, f.name))
+    pos = getattr(node, "pos", None)
+    if pos is not None:
+        out["line"] = pos.line
+        out["column"] = pos.column
+    return out

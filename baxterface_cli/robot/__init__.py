@@ -1,0 +1,15 @@
+"""The robot's side, without ROS: the rules between effects and the robot, with the clock passed in.
+
+robot_rules (head only while enabled, retries, following), following (where to look for a
+person or a hand), face_finder and camera_watch (the nearest face in the head camera),
+navigator_buttons (Baxter's buttons as face commands).
+"""
+
+from typing import Any
+
+
+def __getattr__(name: str) -> Any:
+    # `robot` was a module before it was a room: its old names still work for a release.
+    from .._moved import room_attribute
+
+    return room_attribute("robot", name)

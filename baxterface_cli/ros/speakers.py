@@ -1,0 +1,132 @@
+"""Where the face's speech goes on a robot: sound_play, this machine's sound device, or nowhere.
+
+`open_speaker` turns an audio mode (the node's `_audio:=`, stream's `--audio`)
+into its speaker, for the face node and `stream` alike.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import shutil
+import tempfile
+import time
+from collections import deque
+from typing import Any, Callable, Deque, Dict, Optional, Tuple
+
+from ..engine.effects import Speech
+from ..speech.soundtrack import write_wav
+from .wire import COMMAND_TYPES, PLAY_ONCE, PLAY_STOP, SOUND_PLAY_FILE, SOUND_TOPIC
+
+
+class Speaker:
+    """Where speech goes: nowhere (`_audio:=none`: the mouth moves, nothing is heard).
+
+    `speak` runs on the frame loop as a Speech cue falls due, which is when the
+    mouth starts moving, so it starts the sound and returns.
+    """
+
+    def __init__(self, rospy: Any, warn: Callable[[str], None]) -> None:
+        pass
+
+    def speak(self, effect: Speech) -> None:
+        """Start saying the effect's utterance now."""
+
+    def stop(self) -> None:
+        """Stop what is being said: a new command took over."""
+
+    def close(self) -> None:
+        """Let go of what it holds."""
+
+
+class SoundPlaySpeaker(Speaker):
+    """Each utterance as a WAV file, played by ROS's sound_play (PLAY_FILE on /robotsound).
+
+    sound_play opens the file by its path, so it must run on this machine. The
+    files live in a folder of this speaker's own, each removed once it has surely
+    been played, and the folder with them on `close`.
+    """
+
+    KEEP = 30.0  # seconds a file outlives its sound: sound_play may open it late
+
+    def __init__(self, rospy: Any, warn: Callable[[str], None]) -> None:
+        from .messages import message_class
+
+        self.warn = warn
+        self.request = message_class(COMMAND_TYPES[SOUND_TOPIC])
+        self.publisher = rospy.Publisher(SOUND_TOPIC, self.request, queue_size=10)
+        self.folder = tempfile.mkdtemp(prefix="baxterface-speech-")
+        self.files: Deque[Tuple[str, float]] = deque()  # (path, when it may go), oldest first
+        self.playing: Optional[Tuple[str, float]] = None  # (path, when its sound ends)
+        self.said = 0
+
+    def speak(self, effect: Speech) -> None:
+        now = time.monotonic()
+        while self.files and self.files[0][1] <= now:
+            with contextlib.suppress(OSError):  # gone already
+                os.remove(self.files.popleft()[0])
+        if self.said == 0 and self.publisher.get_num_connections() == 0:
+            # A request that nobody hears is dropped without a word: only this tells.
+            self.warn(
+                f"nothing listens on {SOUND_TOPIC}, so the face is not heard: start sound_play on this "
+                "machine (rosrun sound_play soundplay_node.py), or choose another audio mode"
+            )
+        self.said += 1
+        utterance = effect.utterance
+        path = os.path.join(self.folder, f"say-{self.said:06d}.wav")
+        write_wav(path, utterance.samples, utterance.sample_rate)
+        self._request(PLAY_ONCE, path)
+        self.files.append((path, now + utterance.duration + self.KEEP))
+        self.playing = (path, now + utterance.duration)
+
+    def stop(self) -> None:
+        if self.playing is not None and self.playing[1] > time.monotonic():
+            self._request(PLAY_STOP, self.playing[0])
+        self.playing = None
+
+    def close(self) -> None:
+        shutil.rmtree(self.folder, ignore_errors=True)
+
+    def _request(self, command: int, path: str) -> None:
+        self.publisher.publish(
+            self.request(sound=SOUND_PLAY_FILE, command=command, volume=1.0, arg=path, arg2="")
+        )
+
+
+class LocalSpeaker(Speaker):
+    """The utterance on this machine's own sound device (none there: a warning, once, and silence)."""
+
+    def __init__(self, rospy: Any, warn: Callable[[str], None]) -> None:
+        from ..speech.sound_device import open_sound
+
+        self.sound = open_sound(warn)
+
+    def speak(self, effect: Speech) -> None:
+        self.sound.play(effect.utterance.samples, effect.utterance.sample_rate)
+
+    def stop(self) -> None:
+        self.sound.stop()
+
+    def close(self) -> None:
+        self.sound.close()
+
+
+# The audio modes (the node's `_audio:=`, stream's `--audio`) and their speakers.
+SPEAKERS: Dict[str, Callable[[Any, Callable[[str], None]], Speaker]] = {
+    "soundplay": SoundPlaySpeaker,
+    "local": LocalSpeaker,
+    "none": Speaker,
+}
+DEFAULT_AUDIO = "soundplay"  # a Baxter lab's speakers are on a workstation running sound_play
+AUDIO_CHOICES = ", ".join(list(SPEAKERS)[:-1]) + " or " + list(SPEAKERS)[-1]
+
+
+class UnknownAudio(ValueError):
+    """An audio mode that is not one of SPEAKERS."""
+
+
+def open_speaker(mode: str, rospy: Any, warn: Callable[[str], None], name: str = "~audio") -> Speaker:
+    """The speaker for audio `mode`; UnknownAudio, naming the setting `name`, for no such mode."""
+    if mode not in SPEAKERS:
+        raise UnknownAudio(f"{name} must be {AUDIO_CHOICES}, not {mode!r}")
+    return SPEAKERS[mode](rospy, warn)

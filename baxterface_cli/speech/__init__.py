@@ -1,0 +1,14 @@
+"""Speech: text to sound with the time of every phoneme and word, and the mouth that follows it.
+
+espeak (the espeak-ng C library through ctypes) -> synthesis (utterances) -> visemes (timed
+mouth shapes); soundtrack mixes a script's utterances; sound_device plays them on this machine.
+"""
+
+from typing import Any
+
+
+def __getattr__(name: str) -> Any:
+    # `speech` was a module before it was a room: its old names still work for a release.
+    from .._moved import room_attribute
+
+    return room_attribute("speech", name)

@@ -1,0 +1,402 @@
+"""The studio: its session, preview and panel without the web, then a real server over HTTP."""
+
+from __future__ import annotations
+
+import io
+import json
+import os
+import re
+import signal
+import socket
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from baxterface_cli.engine.compiler import compile_script
+from baxterface_cli.language.diagnostics import ScriptError
+from baxterface_cli.language.parser import parse
+from baxterface_cli.studio.panel import DEFAULT_PANEL, PanelError, load_panel
+from baxterface_cli.studio.preview import SCRIPT, SESSION, Preview, Transport
+from baxterface_cli.studio.session import Session
+from baxterface_cli.studio.workspace import check_text
+from studio_server import baxterface, running_studio
+
+REPO = Path(__file__).resolve().parents[2]
+PRESSES = [  # (seconds after the first, command): overlapping and not, legacy and new
+    (0.0, "happy"),
+    (0.9, "look left in 2s ease-in-out"),
+    (1.6, "sad"),  # while the look is under way: the eyes go on
+    (2.2, "look_20_40_0.5"),  # takes the eyes over from where they got to
+    (5.0, "blink"),
+    (5.05, "wobble 0.4 in 1s"),
+    (7.3, "angry\nnod"),
+    (9.0, "follow human"),
+    (9.4, "look up in 0.3s"),
+]
+
+
+def test_the_exported_session_replays_what_the_preview_showed():
+    preview = Preview(seed=11, idle=False)
+    start = 1000.0
+    for at, command in PRESSES:
+        preview.press(command, start + at)
+    times = [i / 30 for i in range(int(12 * 30))]
+    shown = [preview.at(start + t)[1:] for t in times]
+    text = preview.session.text
+    replay = compile_script(parse(text, "session.face"), 11)
+    on_the_clock = [(start + t) - start for t in times]  # as the preview's clock saw them
+    assert [(replay.sample(t), replay.status(t)) for t in on_the_clock] == shown
+    # and the face did change at each press: the replay is not trivially equal
+    eyes = {round(face.eye_x) for face, _ in shown}
+    assert len(eyes) > 5
+    assert {face.emotion for face, _ in shown} >= {"happy", "sad", "angry"}
+
+
+def test_a_press_logs_its_time_from_the_first_press():
+    session = Session(seed=1)
+    assert session.press("happy", 50.0) == 0.0
+    assert session.press("sad", 51.2345) == 1.234
+    assert [(p.at, p.command) for p in session.presses] == [(0.0, "happy"), (1.234, "sad")]
+    assert "wait 0.934s" in session.text  # sad comes 1.234 s in, after happy's 0.3 s
+
+
+def test_presses_that_do_not_overlap_export_as_a_plain_list_with_waits():
+    session = Session(seed=1)
+    session.press("happy", 0.0)
+    session.press("look left in 0.5s", 2.0)
+    body = [line for line in session.text.splitlines() if not line.startswith("#")]
+    assert body == ["happy", "wait 1.7s", "look left in 0.5s"]
+
+
+def test_a_bad_press_changes_nothing_and_says_why():
+    session = Session(seed=1)
+    session.press("happy", 0.0)
+    with pytest.raises(ScriptError) as e:
+        session.press("hapy", 1.0)
+    assert "did you mean 'happy'" in e.value.diagnostics[0].message
+    with pytest.raises(ScriptError) as e:  # fine alone, but not inside the session's blocks
+        session.press("define x { blink }\nx", 0.1)
+    assert "the session would break" in e.value.diagnostics[0].message
+    assert len(session) == 1
+
+
+def test_the_transport_plays_pauses_seeks_and_loops():
+    transport = Transport()
+    assert transport.position(10.0, 4.0) == 0.0
+    transport.play(10.0, 4.0)
+    assert transport.position(11.5, 4.0) == 1.5
+    transport.pause(12.0, 4.0)
+    assert transport.position(20.0, 4.0) == 2.0
+    transport.seek(3.0, 20.0, 4.0)
+    transport.play(20.0, 4.0)
+    assert transport.position(25.0, 4.0) == 4.0  # held at the end
+    transport.settle(25.0, 4.0)
+    assert not transport.playing
+    transport.play(26.0, 4.0)  # play at the end starts again
+    transport.set_loop(True, 26.0, 4.0)
+    assert transport.position(31.0, 4.0) == pytest.approx(1.0)
+
+
+def test_a_press_switches_the_preview_to_the_session_and_play_switches_back():
+    preview = Preview(seed=3, idle=False)
+    preview.load(parse("look left in 1s\nwait 2s", "x.face"))
+    preview.play(0.0)
+    assert preview.mode == SCRIPT and preview.at(0.5)[1].eye_x != 0
+    preview.press("sad", 0.6)
+    assert preview.mode == SESSION
+    assert preview.at(1.5)[1].emotion == "sad"
+    preview.play(2.0)  # carries on from where the script was paused
+    t, face, _ = preview.at(2.0)
+    assert preview.mode == SCRIPT and t == pytest.approx(0.6)
+
+
+def test_the_preview_says_what_is_heard_while_it_plays(engine):
+    preview = Preview(seed=3, idle=False)
+    script = 'happy\nwait 1s\ntogether {\n  say "Hello there."\n  say "Yes." voice en-gb\n}'
+    preview.load(parse(script, "x.face"))
+    assert preview.sounds(0.0) == []  # not playing
+    preview.play(0.0)
+    start = preview.animation.timeline.speech[0].at  # after happy's crossfade and the wait
+    assert preview.sounds(start - 0.01) == []
+    hello, yes = preview.sounds(start + 0.1)
+    assert hello["at"] == yes["at"] == round(start, 3) and hello["key"] != yes["key"]
+    assert preview.utterance(hello["key"]).text == "Hello there."
+    assert preview.utterance(yes["key"]).voice == "en-gb"
+    preview.pause(start + 0.2)
+    assert preview.sounds(start + 0.3) == []  # paused: silent
+    preview.press('say "Yes." voice en-gb', 5.0)  # the session says it too: the same sound
+    assert preview.sounds(5.01) == [{"key": yes["key"], "at": 0.0}]
+    assert preview.sounds(9.0) == []  # said
+    assert preview.utterance("0123456789abcdef") is None
+
+
+def test_the_default_panel_has_emotions_looks_actions_and_phrases():
+    buttons = load_panel()
+    groups = {b.group for b in buttons}
+    assert groups == {"Emotions", "Looks", "Actions", "Say"}
+    commands = {b.command for b in buttons}
+    assert {"happy", "blink", "nod"} <= commands
+    assert any(c.startswith("say ") for c in commands)
+    keys = [b.key for b in buttons if b.key]
+    assert len(keys) == len(set(keys))
+    assert {"ArrowLeft", "1"} <= set(keys)  # key names and characters both load
+
+
+@pytest.mark.parametrize(
+    "buttons, message",
+    [
+        ([{"label": "Happy", "command": "hapy"}], "Happy"),
+        (
+            [{"label": "A", "command": "happy", "key": "a"}, {"label": "B", "command": "sad", "key": "a"}],
+            "key 'a'",
+        ),
+        ([{"label": "A"}], "needs a command"),
+        ("happy", 'a "buttons" list'),
+        (
+            [{"label": "Left", "command": "look left", "key": "Arrowleft"}],
+            'key "Arrowleft" is not one character',
+        ),
+    ],
+)
+def test_a_bad_panel_is_refused_with_the_button_named(tmp_path, buttons, message):
+    path = tmp_path / "panel.json"
+    path.write_text(json.dumps({"buttons": buttons}))
+    with pytest.raises(PanelError) as e:
+        load_panel(path)
+    assert str(e.value).startswith(str(path)) and message in str(e.value)
+
+
+def test_the_default_panel_file_is_the_one_shipped():
+    assert DEFAULT_PANEL.exists() and DEFAULT_PANEL.parent.name == "studio"
+
+
+def test_check_text_says_what_check_says(tmp_path):
+    script = tmp_path / "bad.face"
+    script.write_text("happy\nmouth smil\nlook 200 0\nwiat 1s\n")
+    done = subprocess.run([baxterface(), "check", str(script)], capture_output=True, text=True)
+    heads = [line for line in done.stderr.splitlines() if line.startswith(str(script))]
+    ours = [
+        f"{script}:{d['line']}:{d['column']}: {d['severity']}: {d['message']}"
+        for d in check_text(script.read_text(), str(script))
+    ]
+    assert ours == heads and len(heads) == 4  # wiat 1s: the unknown command and the 1s after it
+    assert "unknown command 'wiat'; did you mean 'wait'?" in heads[2]
+
+
+# -- a real server
+
+
+@pytest.fixture()
+def folder(tmp_path):
+    (tmp_path / "show.face").write_text("happy\nlook left in 1s\nwait 1s\nsad\n")
+    return tmp_path
+
+
+def decoded(jpeg: bytes) -> np.ndarray:
+    from PIL import Image
+
+    return np.asarray(Image.open(io.BytesIO(jpeg)).convert("RGB"), dtype=np.int16)
+
+
+def test_the_api_checks_plays_commands_and_shows_the_frame(folder):
+    with running_studio(folder / "show.face", "--no-idle") as studio:
+        status, answer = studio.json("POST", "/api/check", "happy\nmouth smil\n")
+        assert status == 200
+        assert answer == [
+            {
+                "line": 2,
+                "column": 7,
+                "severity": "error",
+                "message": "unknown mouth 'smil'; did you mean 'smile'?",
+            }
+        ]
+        before = decoded(studio.frame())
+        status, answer = studio.json("POST", "/api/command", "look_60_0_0")
+        assert status == 200 and answer["at"] == 0.0
+        assert answer["session"]["presses"] == [{"at": 0.0, "command": "look_60_0_0"}]
+        after = decoded(studio.frame())
+        assert np.abs(after - before).mean() > 1.0  # the eyes moved
+        status, answer = studio.json("POST", "/api/command", "look 40 -20 in 0.5s eas-in")
+        assert status == 400
+        assert answer["diagnostics"][0]["message"].startswith("unknown easing 'eas-in'")
+        status, answer = studio.json("GET", "/api/state")
+        assert answer["script"] == {
+            "name": "show.face",
+            "text": (folder / "show.face").read_text(),
+            "saved": True,
+        }
+        assert [s["text"] for s in answer["timeline"]["spans"]][:2] == [
+            "happy",
+            "look 65 0 in 1s",
+        ]  # as explain says it
+        assert "happy" in answer["vocabulary"]["emotions"] and "look" in answer["vocabulary"]["keywords"]
+
+
+def test_the_sound_of_what_is_said_is_served_as_wav(folder, engine):
+    import wave
+
+    with running_studio(folder / "show.face", "--no-idle") as studio:
+        said = "Hello there, this is the studio speaking."  # long enough to be heard when asked
+        assert studio.json("POST", "/api/command", f'say "{said}"')[0] == 200
+        _, state = studio.json("GET", "/api/state")
+        (heard,) = state["status"]["sounds"]
+        code, wav = studio.request("GET", f"/api/sound/{heard['key']}.wav")
+        assert code == 200
+        with wave.open(io.BytesIO(wav)) as w:
+            samples = np.frombuffer(w.readframes(w.getnframes()), "<i2")
+            rate = w.getframerate()
+        utterance = engine.say(said)
+        assert rate == utterance.sample_rate and np.array_equal(samples, utterance.samples)
+        for key in ("0123456789abcdef", "..%2F..%2Fetc%2Fpasswd", "x" * 16):
+            assert studio.request("GET", f"/api/sound/{key}.wav")[0] == 404
+
+
+def test_saving_writes_the_script_whole_and_nothing_else(folder):
+    with running_studio(folder / "show.face") as studio:
+        status, answer = studio.json("POST", "/api/save", "sad\nwait 2s\n")
+        assert status == 200 and answer == {"saved": True, "name": "show.face"}
+        assert (folder / "show.face").read_text() == "sad\nwait 2s\n"
+        assert sorted(p.name for p in folder.iterdir() if not p.name.startswith(".studio-")) == ["show.face"]
+
+
+def test_a_new_script_is_made_on_first_save(tmp_path):
+    with running_studio(tmp_path / "new.face") as studio:
+        _, answer = studio.json("GET", "/api/state")
+        assert answer["script"]["text"] == ""
+        studio.json("POST", "/api/save", "happy\n")
+    assert (tmp_path / "new.face").read_text() == "happy\n"
+
+
+def test_the_session_exports_beside_the_script_and_replays(folder):
+    with running_studio(folder / "show.face", "--no-idle") as studio:
+        for command in ("happy", "look left in 0.3s", "blink"):
+            assert studio.json("POST", "/api/command", command)[0] == 200
+        status, answer = studio.json("POST", "/api/session/export")
+        assert status == 200
+    exported = folder / answer["path"]
+    assert exported.parent == folder and exported.read_text() == answer["text"]
+    done = subprocess.run([baxterface(), "explain", str(exported)], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    said = [m.group(1) for m in re.finditer(r" line \d+ +(.*)", done.stdout)]
+    assert [text for text in said if not text.startswith("wait")] == ["happy", "look 65 0 in 0.3s", "blink"]
+
+
+def test_the_studio_refuses_other_hosts_and_other_sites(folder):
+    with running_studio(folder / "show.face") as studio:
+        assert studio.request("GET", "/api/state", headers={"Host": "evil.example:80"})[0] == 403
+        origin = {"Origin": "http://evil.example"}
+        assert studio.request("POST", "/api/save", "x", headers=origin)[0] == 403
+        assert (folder / "show.face").read_text().startswith("happy")
+        same = {"Origin": studio.base}
+        assert studio.request("POST", "/api/check", "happy", headers=same)[0] == 200
+        # no route takes a path: a climb out of the static folder finds nothing
+        for path in ("/static/../workspace.py", "/static/%2e%2e/workspace.py", "/static/..%2fworkspace.py"):
+            assert studio.request("GET", path)[0] == 404
+
+
+def test_off_loopback_every_request_needs_the_token(folder):
+    with running_studio(folder / "show.face", "--host", "0.0.0.0") as studio:
+        assert studio.token and len(studio.token) >= 20
+        assert not studio.base.startswith(("http://0.0.0.0", "http://127."))  # an address others can reach
+        studio.base = "http://127.0.0.1:" + studio.base.rsplit(":", 1)[1]
+        status, answer = studio.request("GET", "/api/state", headers={"X-Baxterface-Token": "wrong"})
+        assert status == 403 and json.loads(answer)["error"].startswith("the token is wrong")
+        status, answer = studio.request("GET", "/static/app.js", headers={"X-Baxterface-Token": ""})
+        assert status == 403 and json.loads(answer)["error"].startswith("a token is needed")
+        assert studio.request("GET", "/api/state")[0] == 200
+        status, _ = studio.request("GET", f"/?token={studio.token}", headers={"X-Baxterface-Token": ""})
+        assert status == 200
+
+
+def test_bad_requests_are_answered_in_json_and_logged_in_one_line_each(folder):
+    with running_studio(folder / "show.face") as studio:
+        asked = [
+            ("POST", "/api/command", "hapy", {}, 400, "unknown command 'hapy'"),
+            ("GET", "/api/check", None, {}, 405, "GET is not taken here"),
+            ("GET", "/api/nothing", None, {}, 404, "nothing is here"),
+            ("POST", "/api/transport", {"action": "seek", "t": "x"}, {}, 400, "'seek' needs 't'"),
+            ("POST", "/api/transport", {"action": "seek"}, {}, 400, "'seek' needs 't'"),
+            ("POST", "/api/transport", {}, {}, 400, "'action' must be one of play, pause, seek, loop"),
+            ("POST", "/api/transport", {"action": "loop", "on": "yes"}, {}, 400, "'loop' needs 'on'"),
+            ("GET", "/api/state", None, {"Host": "evil.example"}, 403, "loopback only"),
+        ]
+        for method, path, body, headers, code, why in asked:
+            status, answer = studio.request(method, path, body, headers)
+            assert status == code, (path, answer)
+            said = json.loads(answer)
+            assert why in (said["diagnostics"][0]["message"] if "diagnostics" in said else said["error"])
+        assert studio.json("POST", "/api/transport", {"action": "seek", "t": 0.5})[0] == 200  # still serving
+        logged = [line for line in studio.log() if not line.startswith("baxterface studio: http")]
+    assert len(logged) == len(asked)
+    for line, (method, path, _, _, code, why) in zip(logged, asked):
+        assert line.startswith(f"baxterface studio: {method} {path}: {code} ") and why in line
+
+
+def test_sigterm_stops_the_studio_as_ctrl_c_does_and_says_what_was_not_saved(folder):
+    with running_studio(folder / "show.face") as studio:
+        assert studio.json("POST", "/api/script", "sad\n")[0] == 200  # typed, not saved
+        studio.process.send_signal(signal.SIGTERM)
+        assert studio.process.wait(timeout=30) == 128 + signal.SIGTERM
+        assert (
+            studio.log()[-1]
+            == "baxterface studio: stopped; the editor's last changes to show.face were not saved"
+        )
+    assert (folder / "show.face").read_text().startswith("happy")
+
+
+def test_a_missing_extra_gives_one_line(tmp_path):
+    code = (
+        "import sys; sys.modules['starlette'] = None; from baxterface_cli.cli import main; main(['studio'])"
+    )
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=tmp_path)
+    assert done.returncode == 1
+    assert done.stderr.strip().splitlines() == [
+        "baxterface studio: the studio needs the 'starlette' module: pip install 'baxterface[studio]'"
+    ]
+
+
+def test_a_taken_port_gives_one_line(folder):
+    with socket.socket() as taken:
+        taken.bind(("127.0.0.1", 0))
+        taken.listen()
+        port = taken.getsockname()[1]
+        done = subprocess.run(
+            [baxterface(), "studio", str(folder / "show.face"), "--no-browser", "--port", str(port)],
+            capture_output=True,
+            text=True,
+            timeout=60,
+        )
+    assert done.returncode == 1
+    assert done.stderr.strip().splitlines() == [
+        f"baxterface studio: cannot serve on 127.0.0.1:{port}: Address already in use"
+    ]
+
+
+def test_a_bad_panel_stops_the_studio_with_one_line(folder):
+    panel = folder / "panel.json"
+    panel.write_text('{"buttons": [{"label": "Hi", "command": "say \\"hi"}]}')
+    done = subprocess.run(
+        [baxterface(), "studio", str(folder / "show.face"), "--no-browser", "--buttons", str(panel)],
+        capture_output=True,
+        text=True,
+        timeout=60,
+        env=dict(os.environ),
+    )
+    assert done.returncode == 1
+    lines = done.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith(
+        f"baxterface studio: {panel} (button 'Hi'):1:5: error: unterminated string"
+    )
+
+
+def test_the_docs_show_the_session_export_as_written():
+    session = Session(seed=1234)
+    for at, command in ((0.0, "look left in 2s"), (0.5, "sad"), (2.5, "blink")):
+        session.press(command, at)
+    doc = (REPO / "docs" / "studio.md").read_text(encoding="utf-8")
+    shown = doc.split("```\n# baxterface studio session")[1].split("```")[0].splitlines()[1:]
+    written = session.text_of(session.presses, "session-20261122-140318.face").splitlines()[1:]
+    assert shown == written

@@ -1,0 +1,37 @@
+"""`play` as the tests drive it: in a terminal they read, and on a clock they move."""
+
+from __future__ import annotations
+
+import os
+import sys
+
+import pexpect
+
+from conftest import ROOT
+
+
+def spawn_play(*args, env=None):
+    return pexpect.spawn(
+        sys.executable,
+        ["-m", "baxterface_cli", "play", "--terminal", "--no-idle", *args],
+        cwd=str(ROOT),
+        dimensions=(32, 100),
+        encoding="utf-8",
+        # The terminal echoes a Ctrl-C where it lands, even inside a half-written block character.
+        codec_errors="replace",
+        timeout=30,
+        env=env or dict(os.environ, TERM="xterm-256color"),
+    )
+
+
+class FakeClock:
+    """Time that passes only when the player sleeps or a frame costs some."""
+
+    def __init__(self) -> None:
+        self.now = 100.0
+
+    def __call__(self) -> float:
+        return self.now
+
+    def sleep(self, seconds: float) -> None:
+        self.now += seconds
