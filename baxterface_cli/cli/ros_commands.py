@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import sys
 from typing import List, Optional
 
 import typer
@@ -24,12 +25,12 @@ from .app import (
 )
 
 
-def _ros_ready(command: str) -> None:
+def _ros_ready(command: str, images: bool = True) -> None:
     """ROS importable and its master reachable, or a clear exit 1."""
     from ..ros.connect import RosUnavailable, require_master, require_ros
 
     try:
-        require_ros()
+        require_ros(images)
         require_master()
     except RosUnavailable as e:
         raise fail(f"baxterface {command}: {e}") from None
@@ -54,15 +55,13 @@ def node(ctx: typer.Context) -> None:
     sound_play on /robotsound, what the face is doing to ~state (JSON).
     """
     _ros_ready("node")
-    from ..drawing.theme import ThemeError
     from ..ros.face_node import run_node
+    from ..ros.node_settings import SettingError
 
     try:
         code = run_node(["baxterface_node", *ctx.args])
-    except ThemeError as e:
-        raise fail(f"baxterface node: {e}") from None
-    except ValueError as e:
-        raise fail(f"baxterface node: {e}") from None
+    except SettingError as e:
+        raise fail(f"baxterface node: {e}", 2) from None
     raise typer.Exit(code)
 
 
@@ -83,7 +82,7 @@ def buttons(
         button_map = ButtonMap.load(mapping)
     except MappingError as e:
         raise fail(f"baxterface buttons: {e}") from None
-    _ros_ready("buttons")
+    _ros_ready("buttons", images=False)
     from ..ros.buttons import run_buttons
 
     raise typer.Exit(run_buttons(button_map, ["baxterface_buttons", *ctx.args]))
@@ -97,6 +96,9 @@ def send(
     file: Optional[str] = typer.Option(
         None, "-f", "--file", metavar="FILE", help="Send a script file instead."
     ),
+    stdin: bool = typer.Option(
+        False, "--stdin", help="Send each line of standard input as it comes, over one connection."
+    ),
     topic: str = typer.Option("display_chatter", "--topic", help="The face node's command topic."),
     queue: bool = typer.Option(
         False, "--queue", help="Play after what is playing (the node's ~queue topic)."
@@ -106,28 +108,59 @@ def send(
     """Send a command or script to a running face node, checked first.
 
     A bad script gets the same diagnostics as 'check' and is not sent. With
-    no face node listening within --timeout, it says so (exit 1).
+    no face node listening within --timeout, it says so (exit 1). With
+    --stdin, each line is a command of its own: bad lines are reported with
+    their line number and skipped, and the exit status is 1 if there were any.
     """
     text_words, ros_args = _split_ros_args(list(words or []) + list(ctx.args))
-    if file is not None and text_words:
-        raise fail("baxterface send: give a COMMAND or -f FILE, not both", 2)
-    if file is None and not text_words:
-        raise fail("baxterface send: nothing to send; give a COMMAND or -f FILE", 2)
-    script = script_from(file, None, "send") if file is not None else None
-    text = script.source if script is not None else " ".join(text_words)
-    if script is None:
+    if sum([file is not None, bool(text_words), stdin]) > 1:
+        raise fail("baxterface send: give one of COMMAND, -f FILE or --stdin", 2)
+    if file is None and not text_words and not stdin:
+        raise fail("baxterface send: nothing to send; give a COMMAND, -f FILE or --stdin", 2)
+    what = ""
+    if file is not None:
+        script = script_from(file, None, "send")
+        text = script.source
+        what = f"{script.filename} ({len(text.splitlines())} lines)"
+    elif text_words:
+        text = " ".join(text_words)
         try:
             parse(text, "<command>")
         except ScriptError as e:
             raise fail(e.render()) from None
-    _ros_ready("send")
-    from ..ros.send import NoSubscriber
-    from ..ros.send import send as send_text
+        what = repr(text)
+    _ros_ready("send", images=False)
+    from ..ros.send import NoSubscriber, Sender, listeners
 
     try:
-        send_text(text, "baxter_face/queue" if queue else topic, timeout, ["baxterface_send", *ros_args])
+        with Sender("baxter_face/queue" if queue else topic, timeout, ["baxterface_send", *ros_args]) as out:
+            if stdin:
+                bad = _send_lines(out, sys.stdin)
+                if bad:
+                    raise fail(f"baxterface send: {bad} line{'s' if bad > 1 else ''} not sent")
+                return
+            typer.echo(f"sent {what} to {out.topic} ({listeners(out.send(text))})", err=True)
     except NoSubscriber as e:
         raise fail(f"baxterface send: {e}") from None
+
+
+def _send_lines(out, lines) -> int:
+    """Check and send each line as it comes; how many were bad (reported, not sent)."""
+    from ..ros.send import listeners
+
+    bad = 0
+    for number, line in enumerate(lines, 1):
+        command = line.strip()
+        if not command or command.startswith("#"):
+            continue
+        try:  # parsed where it stands, so that errors carry the line's number
+            parse("\n" * (number - 1) + line.rstrip("\n"), "<stdin>")
+        except ScriptError as e:
+            typer.echo(e.render(), err=True)
+            bad += 1
+            continue
+        typer.echo(f"sent {command!r} to {out.topic} ({listeners(out.send(command))})", err=True)
+    return bad
 
 
 def stream(

@@ -20,10 +20,13 @@ class RosUnavailable(Exception):
 ROS_PYTHON_PATHS = ("/usr/lib/python3/dist-packages", "/opt/ros/noetic/lib/python3/dist-packages")
 
 
-def require_ros() -> None:
+def require_ros(images: bool = True) -> None:
+    """rospy importable, and cv_bridge too for a command that sends `images`."""
     try:
-        import cv_bridge  # noqa: F401
         import rospy  # noqa: F401
+
+        if images:
+            import cv_bridge  # noqa: F401
     except ImportError as e:
         raise RosUnavailable(f"{_why_not_here()} ({e})") from None
 

@@ -25,17 +25,15 @@ from typing import Any, List, Optional, Tuple
 from ..core.face_state import FaceState
 from ..core.tables import BROWS, MOUTHS, SKINS
 from ..drawing.renderer import Renderer, pose
-from ..drawing.theme import resolve
-from ..drawing.theme_manifest import parse_size
 from ..engine.backlog import Backlog
 from ..engine.effects import Speech
 from ..engine.intake import Intake
 from ..engine.live_face import LiveFace, sleep_face
 from ..robot.camera_watch import CameraWatch
 from .messages import message_class
+from .node_settings import NodeSettings, SettingError, theme_layers
 from .robot_link import WARN_EVERY, connect_robot
-from .speakers import DEFAULT_AUDIO, open_speaker
-from .wire import DISPLAY_TOPICS
+from .speakers import open_speaker
 
 STATE_EVERY = 0.1  # seconds between ~state messages while the face moves
 # After a command, the next frame comes this soon rather than at the next
@@ -51,8 +49,6 @@ SWITCH_INTERVAL = 0.001
 # left for this many of theirs rather than 10.
 FULL_COLLECTION_EVERY = 1000
 MASTER_CHECK = 1.0  # seconds between checks that the master still knows this node
-CAMERA_TOPIC = "/cameras/head_camera/image"
-CAMERA_HFOV = 76.0  # degrees: faces.BAXTER_HEAD_CAMERA_HFOV, without loading OpenCV's module
 CAMERA_ENCODINGS = ("bgr8", "rgb8", "mono8")
 IMAGE_BUFFER = 1 << 24  # bytes: room for a whole 1280x800 image, so only the newest is kept
 
@@ -76,29 +72,25 @@ class FaceNode:
 
         self.rospy = rospy
         rospy.init_node("baxter_face", argv=argv, disable_signals=True)
-        self.fps = float(rospy.get_param("~fps", 30.0))
-        if not 1.0 <= self.fps <= 120.0:
-            raise ValueError(f"~fps must be from 1 to 120, not {self.fps:g}")
-        size = parse_size(str(rospy.get_param("~size", "1024x600")))
-        theme = rospy.get_param("~theme", "") or None
-        self.renderer = Renderer(resolve(theme).layers(size))
-        self.live = LiveFace(
-            start=sleep_face(), idle=bool(rospy.get_param("~idle", True)), now=time.monotonic()
-        )
+        try:
+            settings = NodeSettings.read(lambda name, default: rospy.get_param("~" + name, default))
+            layers = theme_layers(settings)
+        except SettingError as e:
+            raise not_kept(e, rospy, argv) from None
+        self.fps = settings.fps
+        self.renderer = Renderer(layers)
+        self.live = LiveFace(start=sleep_face(), idle=settings.idle, now=time.monotonic())
         self.String, self.Image = String, Image
         self.bridge = cv_bridge.CvBridge()
 
-        display = rospy.get_param("~display_topic", DISPLAY_TOPICS["baxter"])
-        self.image_pub = rospy.Publisher(display, Image, latch=True, queue_size=1)
+        self.image_pub = rospy.Publisher(settings.display_topic, Image, latch=True, queue_size=1)
         self.state_pub = rospy.Publisher("~state", String, latch=True, queue_size=1)
         levels = {"info": rospy.loginfo, "warn": rospy.logwarn, "error": rospy.logerr}
         self.log = Backlog(lambda level, text: levels[level](text))  # never logs from the loop
-        self.speaker = open_speaker(str(rospy.get_param("~audio", DEFAULT_AUDIO)), rospy, self.log.warn)
+        self.speaker = open_speaker(settings.audio, rospy, self.log.warn)
         self.saying: Optional[Tuple[str, float]] = None  # (text, when it ends) while the face speaks
-        self.camera_topic = str(rospy.get_param("~camera", CAMERA_TOPIC))
-        hfov = float(rospy.get_param("~camera_hfov", CAMERA_HFOV))
-        if not 1.0 <= hfov <= 179.0:
-            raise ValueError(f"~camera_hfov must be from 1 to 179 degrees, not {hfov:g}")
+        self.camera_topic = settings.camera
+        hfov = settings.camera_hfov
         self.camera_sub: Any = None
 
         def camera(hand_to):
@@ -130,7 +122,7 @@ class FaceNode:
                 side,
                 queue_size=1,
             )
-        if rospy.get_param("~selftest", False):
+        if settings.selftest:
             self.live.command(selftest_script(), time.monotonic(), filename="selftest")
 
     # -- callbacks: hand over and wake the loop, nothing else
@@ -315,6 +307,20 @@ def register_again() -> None:
         manager.reg_added(name, kind, Registration.SUB)
     for name, uri in get_service_manager().get_services():
         manager.reg_added(name, uri, Registration.SRV)
+
+
+def not_kept(error: SettingError, rospy: Any, argv: List[str]) -> SettingError:
+    """`error`, after taking a bad value given on this command line off the parameter server.
+
+    rospy puts `_fps:=abc` on the server, where it would outlive this run and
+    fail the next one; a value someone else set there is left, and the message
+    says how to remove it.
+    """
+    where = rospy.resolve_name("~" + error.name)
+    if any(word.startswith(f"_{error.name}:=") for word in argv):
+        rospy.delete_param(where)
+        return error
+    return SettingError(error.name, f"{error.problem} (on the parameter server: 'rosparam delete {where}')")
 
 
 def run_node(argv: List[str]) -> int:

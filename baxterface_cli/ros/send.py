@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import time
+import warnings
 from typing import List, Optional
 
 from ..drawing.renderer import Renderer
@@ -18,21 +19,43 @@ class NoSubscriber(Exception):
     pass
 
 
-def send(text: str, topic: str, timeout: float, argv: List[str]) -> None:
-    """Publish `text` once a subscriber (a face node) is listening on `topic`."""
-    import rospy
-    from std_msgs.msg import String
+class Sender:
+    """One connection to a face node's command topic, for one message or many.
 
-    rospy.init_node("baxterface_send", argv=argv, anonymous=True, disable_signals=True)
-    publisher = rospy.Publisher(topic, String, queue_size=1)
-    deadline = time.monotonic() + timeout
-    while publisher.get_num_connections() == 0:
-        if time.monotonic() > deadline:
-            raise NoSubscriber(f"nothing listens on {rospy.resolve_name(topic)}: is the face node running?")
-        time.sleep(0.01)
-    publisher.publish(String(text))
-    time.sleep(0.3)  # publishing is asynchronous: give it time to leave
-    rospy.signal_shutdown("sent")
+    Publishing is synchronous (no queue_size): when `send` returns, the message
+    is in the listeners' sockets, so nothing waits a fixed time for it to leave.
+    """
+
+    def __init__(self, topic: str, timeout: float, argv: List[str]) -> None:
+        import rospy
+        from std_msgs.msg import String
+
+        rospy.init_node("baxterface_send", argv=argv, anonymous=True, disable_signals=True)
+        self.rospy, self.String, self.timeout = rospy, String, timeout
+        self.topic = rospy.resolve_name(topic)
+        with warnings.catch_warnings():  # rospy warns of a publisher without a queue: that is the point
+            warnings.simplefilter("ignore")
+            self.publisher = rospy.Publisher(self.topic, String)
+
+    def __enter__(self) -> Sender:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.publisher.unregister()
+
+    def send(self, text: str) -> int:
+        """Publish `text` once something listens; how many listeners it reached."""
+        deadline = time.monotonic() + self.timeout
+        while self.publisher.get_num_connections() == 0:
+            if time.monotonic() > deadline:
+                raise NoSubscriber(f"nothing listens on {self.topic}: is the face node running?")
+            time.sleep(0.005)
+        self.publisher.publish(self.String(text))
+        return self.publisher.get_num_connections()
+
+
+def listeners(count: int) -> str:
+    return f"{count} listener" + ("" if count == 1 else "s")
 
 
 class _RosScreen:

@@ -309,9 +309,33 @@ def test_send_checks_first_and_needs_a_listener(ros, node):
     assert bad.code == 1 and "did you mean 'happy'" in bad.err
     good = baxterface("send", "look", "30", "10", "in", "0.2s", env=ros)
     assert good.code == 0, good.err
+    assert good.err.strip() == "sent 'look 30 10 in 0.2s' to /display_chatter (1 listener)"
     assert report(state, test=lambda r: r["eye_x"] == 30.0)["eye_y"] == 10.0
     nobody = baxterface("send", "--topic", "/nobody_listens", "--timeout", "1", "happy", env=ros)
     assert nobody.code == 1 and "nothing listens on /nobody_listens" in nobody.err
+
+
+def test_send_stdin_sends_each_good_line_over_one_connection_and_reports_the_bad(ros, node):
+    proc, state = node
+    lines = "skin 1\n\nhapy\n# a comment\nlook 12 0\nwobble 0.3 in\nskin 4\n"
+    run = baxterface("send", "--stdin", stdin=lines, env=ros)
+    assert run.code == 1
+    sent = [line for line in run.err.splitlines() if line.startswith("sent ")]
+    assert sent == [f"sent {c!r} to /display_chatter (1 listener)" for c in ("skin 1", "look 12 0", "skin 4")]
+    assert "<stdin>:3:1: error: unknown command 'hapy'" in run.err
+    assert "<stdin>:6:14: error: unexpected end of script" in run.err
+    assert run.err.strip().splitlines()[-1] == "baxterface send: 2 lines not sent"
+    report(state, test=lambda r: r["skin"] == 4)  # the last line: each takes over from the one before
+
+
+def test_send_stdin_sends_a_hundred_lines_in_order(ros, node):
+    """A loop of sends is one process: a hundred lines reach the node in order."""
+    proc, state = node
+    lines = "".join(f"look {i % 30} 0\n" for i in range(99)) + "look 33 -7\n"
+    run = baxterface("send", "--stdin", stdin=lines, env=ros)
+    assert run.code == 0, run.err
+    assert len(run.err.splitlines()) == 100
+    assert report(state, test=lambda r: r["eye_x"] == 33.0)["eye_y"] == -7.0
 
 
 def test_queued_scripts_play_after_the_current_one(ros, node):
@@ -336,7 +360,8 @@ def test_queued_scripts_play_after_the_current_one(ros, node):
 
 def test_send_queue_reaches_the_queue_topic(ros, node):
     proc, state = node
-    assert baxterface("send", "--queue", "skin 4", env=ros).code == 0
+    sent = baxterface("send", "--queue", "skin 4", env=ros)
+    assert sent.code == 0 and sent.err.strip() == "sent 'skin 4' to /baxter_face/queue (1 listener)"
     report(state, test=lambda r: r["skin"] == 4)
 
 
@@ -698,15 +723,49 @@ def test_a_button_press_sends_exactly_one_command(ros):
 
 
 @pytest.mark.parametrize(
-    "arg, message", [("_fps:=0", "~fps must be from 1 to 120"), ("_size:=huge", "size must look like")]
+    "arg, message",
+    [
+        ("_fps:=0", "~fps must be from 1 to 120, not 0"),
+        ("_fps:=abc", "~fps must be a number, not 'abc'"),
+        ("_size:=huge", "~size must look like 1024x600"),
+        ("_audio:=loud", "~audio must be soundplay, local or none, not 'loud'"),
+        ("_theme:=/nonexistent", "~theme cannot be used: /nonexistent"),
+        ("_idle:=maybe", "~idle must be true or false"),
+    ],
 )
-def test_bad_parameters_stop_the_node_with_one_line(ros, arg, message):
+def test_bad_parameters_stop_the_node_with_one_line_and_exit_2(ros, arg, message):
     try:
         proc = baxterface("node", arg, env=ros)
+        left = subprocess.run(["rosparam", "list"], env=ros, capture_output=True, text=True, timeout=30)
     finally:
         forget_parameters(ros)
-    assert proc.code == 1
+    assert proc.code == 2, proc.err
+    assert len(proc.err.strip().splitlines()) == 1
     assert message in proc.err and "Traceback" not in proc.err
+    # rospy put the bad value on the parameter server; it must not outlive this run.
+    assert "/baxter_face/" + arg[1:].split(":=")[0] not in left.stdout.split()
+
+
+def test_a_bad_value_left_on_the_parameter_server_is_named_and_another_node_is_not_hurt(ros):
+    from std_msgs.msg import String
+
+    subprocess.run(["rosparam", "set", "/baxter_face/fps", "abc"], env=ros, check=True, timeout=30)
+    try:
+        plain = baxterface("node", env=ros)
+        assert plain.code == 2
+        assert "~fps must be a number, not 'abc'" in plain.err
+        assert "rosparam delete /baxter_face/fps" in plain.err
+        # Another node reads only its own private parameters: it starts.
+        state = Topic("/face2/state", String)
+        other = start_node(ros, "__name:=face2")
+        try:
+            assert json.loads(state.wait_for(timeout=30).data)["emotion"] == "sleep"
+        finally:
+            state.close()
+            other.send_signal(signal.SIGTERM)
+            assert other.wait(timeout=20) == 0
+    finally:
+        forget_parameters(ros)
 
 
 def rss_mb(pid):

@@ -1,0 +1,114 @@
+"""The face node's settings, read and checked in one place, without ROS.
+
+The node reads its private parameters (`~fps`, `~size`, ...) through a
+`get(name, default)` function; anything wrong is a `SettingError` that names
+the parameter, so `baxterface node` can say which one and exit 2.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Callable, Optional, Tuple
+
+from ..drawing.theme import ThemeError, resolve
+from ..drawing.theme_manifest import parse_size
+from .speakers import AUDIO_CHOICES, DEFAULT_AUDIO, SPEAKERS
+from .wire import DISPLAY_TOPICS
+
+CAMERA_TOPIC = "/cameras/head_camera/image"
+CAMERA_HFOV = 76.0  # degrees: Baxter's head camera, without loading OpenCV's face finder
+
+
+class SettingError(ValueError):
+    """One parameter's value is wrong; `name` is the parameter (without the `~`)."""
+
+    def __init__(self, name: str, problem: str) -> None:
+        super().__init__(f"~{name} {problem}")
+        self.name, self.problem = name, problem
+
+
+@dataclass(frozen=True)
+class NodeSettings:
+    fps: float = 30.0
+    size: Tuple[int, int] = (1024, 600)
+    theme: Optional[str] = None
+    idle: bool = True
+    selftest: bool = False
+    display_topic: str = DISPLAY_TOPICS["baxter"]
+    audio: str = DEFAULT_AUDIO
+    camera: str = CAMERA_TOPIC
+    camera_hfov: float = CAMERA_HFOV
+
+    @classmethod
+    def read(cls, get: Callable[[str, Any], Any]) -> NodeSettings:
+        """Every setting from `get(name, default)`; SettingError on the first bad one."""
+        d = cls()
+        return cls(
+            fps=_number(get, "fps", d.fps, 1.0, 120.0),
+            size=_size(get, "size", f"{d.size[0]}x{d.size[1]}"),
+            theme=_text(get, "theme", "") or None,
+            idle=_flag(get, "idle", d.idle),
+            selftest=_flag(get, "selftest", d.selftest),
+            display_topic=_topic(get, "display_topic", d.display_topic),
+            audio=_choice(get, "audio", d.audio),
+            camera=_topic(get, "camera", d.camera),
+            camera_hfov=_number(get, "camera_hfov", d.camera_hfov, 1.0, 179.0, " degrees"),
+        )
+
+
+def theme_layers(settings: NodeSettings) -> Any:
+    """The theme's layers at the node's size; SettingError naming `~theme` if it cannot be used."""
+    try:
+        return resolve(settings.theme).layers(settings.size)
+    except ThemeError as e:
+        raise SettingError("theme", f"cannot be used: {e}") from None
+
+
+def _number(get, name: str, default: float, low: float, high: float, unit: str = "") -> float:
+    value = get(name, default)
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        raise SettingError(name, f"must be a number, not {str(value)[:40]!r}") from None
+    if not low <= number <= high:  # also refuses nan
+        raise SettingError(name, f"must be from {low:g} to {high:g}{unit}, not {number:g}")
+    return number
+
+
+def _size(get, name: str, default: str) -> Tuple[int, int]:
+    try:
+        return parse_size(str(get(name, default)))
+    except ValueError as e:
+        raise SettingError(name, str(e).replace("size ", "", 1)) from None
+
+
+def _text(get, name: str, default: str) -> str:
+    value = get(name, default)
+    if not isinstance(value, str):
+        raise SettingError(name, f"must be text, not {value!r}")
+    return value
+
+
+def _topic(get, name: str, default: str) -> str:
+    value = _text(get, name, default)
+    if not value or any(c.isspace() for c in value):
+        raise SettingError(name, f"must be a topic name, not {value!r}")
+    return value
+
+
+def _flag(get, name: str, default: bool) -> bool:
+    value = get(name, default)
+    if isinstance(value, bool):
+        return value
+    # rospy makes `_idle:=false` a bool, but a launch file may give a string.
+    words = {"true": True, "false": False, "1": True, "0": False}
+    if str(value).lower() in words:
+        return words[str(value).lower()]
+    raise SettingError(name, f"must be true or false, not {str(value)[:40]!r}")
+
+
+def _choice(get, name: str, default: str) -> str:
+    value = str(get(name, default))
+    if value not in SPEAKERS:
+        raise SettingError(name, f"must be {AUDIO_CHOICES}, not {value[:40]!r}")
+    return value

@@ -1,0 +1,46 @@
+"""The face node's settings, read without ROS: every bad value names its parameter."""
+
+import pytest
+
+from baxterface_cli.ros.node_settings import NodeSettings, SettingError, theme_layers
+
+
+def read(**given):
+    return NodeSettings.read(lambda name, default: given.get(name, default))
+
+
+def test_nothing_given_is_the_documented_defaults():
+    s = read()
+    assert (s.fps, s.size, s.theme, s.idle, s.audio) == (30.0, (1024, 600), None, True, "soundplay")
+    assert s.display_topic == "/robot/xdisplay" and s.camera == "/cameras/head_camera/image"
+
+
+def test_values_as_rospy_and_launch_files_give_them():
+    s = read(fps="20", size="1920x1200", idle="false", selftest=True, camera_hfov=60)
+    assert (s.fps, s.size, s.idle, s.selftest, s.camera_hfov) == (20.0, (1920, 1200), False, True, 60.0)
+
+
+@pytest.mark.parametrize(
+    "given, message",
+    [
+        ({"fps": "abc"}, "~fps must be a number, not 'abc'"),
+        ({"fps": 0}, "~fps must be from 1 to 120, not 0"),
+        ({"fps": float("nan")}, "~fps must be from 1 to 120, not nan"),
+        ({"size": "huge"}, "~size must look like 1024x600, not 'huge'"),
+        ({"audio": "loud"}, "~audio must be soundplay, local or none, not 'loud'"),
+        ({"idle": "maybe"}, "~idle must be true or false, not 'maybe'"),
+        ({"camera_hfov": 200}, "~camera_hfov must be from 1 to 179 degrees, not 200"),
+        ({"display_topic": "a b"}, "~display_topic must be a topic name, not 'a b'"),
+        ({"theme": 3}, "~theme must be text, not 3"),
+    ],
+)
+def test_a_bad_value_is_one_error_naming_its_parameter(given, message):
+    with pytest.raises(SettingError) as caught:
+        read(**given)
+    assert str(caught.value) == message
+    assert caught.value.name == next(iter(given))
+
+
+def test_a_theme_that_cannot_be_used_names_the_theme_parameter(tmp_path):
+    with pytest.raises(SettingError, match=r"^~theme cannot be used: .*nonexistent"):
+        theme_layers(read(theme=str(tmp_path / "nonexistent")))
