@@ -160,6 +160,13 @@ class Preview:
                     return said.utterance
         return None
 
+    def _length(self, t: float) -> float:
+        """How long what is shown is: the script's length, or the session's so far (it goes on
+        with the clock past its last press's end)."""
+        if self.mode == SESSION:
+            return max(self.session.timeline.duration, t)
+        return self.duration
+
     def status(self, now: float) -> dict:
         """The preview as the page shows it beside the face."""
         t, state, robot = self.at(now)
@@ -168,7 +175,7 @@ class Preview:
             "kind": "status",
             "mode": self.mode,
             "t": round(t, 3),
-            "duration": round(self.session.timeline.duration if self.mode == SESSION else self.duration, 3),
+            "duration": round(self._length(t), 3),
             "playing": self.mode == SESSION or self.transport.playing,
             "loop": self.transport.loop,
             "sounds": self.sounds(now),

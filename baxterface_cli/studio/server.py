@@ -25,7 +25,7 @@ from ..drawing.renderer import Renderer
 from ..extras import MissingTool
 from ..language.diagnostics import ScriptError
 from .guard import Guard
-from .workspace import Workspace, diagnostics_json
+from .workspace import SaveConflict, Workspace, diagnostics_json
 
 STATIC = Path(__file__).resolve().parent / "static"
 STATUS_EVERY = 0.1  # seconds between status messages to the page
@@ -161,8 +161,17 @@ def create_app(workspace: Workspace, renderer: Renderer, fps: float = 30.0, toke
     @endpoint
     async def save(request: Request) -> Response:
         text = await body_text(request)
+        base = request.query_params.get("base")
+        if request.query_params.get("force") == "1":
+            base = None
+        elif base is not None and not re.fullmatch(r"[0-9]{1,9}", base):
+            return JSONResponse({"error": f"base must be a version number, not {base[:20]!r}"}, 400)
         try:
-            return JSONResponse(await run_in_threadpool(workspace.save, text))
+            return JSONResponse(
+                await run_in_threadpool(workspace.save, text, None if base is None else int(base))
+            )
+        except SaveConflict as e:  # the page asks before it overwrites
+            return JSONResponse({"error": str(e), "conflict": True, "version": e.version}, 409)
         except OSError as e:
             return JSONResponse({"error": f"cannot save {workspace.name}: {e.strerror or e}"}, 500)
 

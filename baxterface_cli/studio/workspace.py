@@ -105,6 +105,14 @@ class RobotSwitch:
         return {"on": self.on, "available": self.link is not None, "status": status}
 
 
+class SaveConflict(Exception):
+    """The script changed on disk since the version a save was based on."""
+
+    def __init__(self, message: str, version: int) -> None:
+        super().__init__(message)
+        self.version = version
+
+
 class Workspace:
     """The studio's state; every method may be called from any thread."""
 
@@ -129,6 +137,9 @@ class Workspace:
         self.preview_note = ""
         self.saved = self._read() if self.path.exists() else ""
         self.text = self.saved
+        # Counts the versions of the file: each save here and each change seen on disk. A page
+        # saves "over version N"; when the disk has moved on since, it is asked before overwriting.
+        self.version = 0
         self._disk_mtime = self._mtime(self.path)
         self._panel_mtime = self._mtime(panel) if panel else None
         self.update(self.text)
@@ -168,13 +179,30 @@ class Workspace:
         with self.lock:
             return timeline_json(self.preview.animation.timeline)
 
-    def save(self, text: str) -> Dict[str, Any]:
-        data = text.encode("utf-8")
-        write_atomic(self.path, data)
+    def save(self, text: str, base: Optional[int] = None) -> Dict[str, Any]:
+        """Write `text` as the script; SaveConflict if the file changed since version `base`.
+
+        The file is looked at here as well as every half second, so a change
+        made just before the save is not overwritten unseen. Without `base`
+        (a forced save, or a client that does not track versions) it writes.
+        """
         with self.lock:
+            if base is not None and (base != self.version or self._changed_on_disk()):
+                raise SaveConflict(f"{self.name} changed on disk since it was loaded", self.version)
+            write_atomic(self.path, text.encode("utf-8"))
             self.saved = self.text = text
             self._disk_mtime = self._mtime(self.path)
-        return {"saved": True, "name": self.name}
+            self.version += 1
+            return {"saved": True, "name": self.name, "version": self.version}
+
+    def _changed_on_disk(self) -> bool:
+        mtime = self._mtime(self.path)
+        if mtime is None or mtime == self._disk_mtime:
+            return False
+        try:
+            return self._read() != self.saved
+        except ScriptError:
+            return True
 
     def disk_changes(self) -> List[Dict[str, Any]]:
         """What changed on disk since last asked: the script (as `play --watch` sees it) and the panel."""
@@ -190,9 +218,11 @@ class Workspace:
                 with self.lock:
                     unsaved = self.text != self.saved
                     self.saved = text
+                    self.version += 1
+                    version = self.version
                 if not unsaved:  # nothing of the user's to lose: play the new version
                     self.update(text)
-                changes.append({"kind": "disk", "name": self.name, "text": text})
+                changes.append({"kind": "disk", "name": self.name, "text": text, "version": version})
         if self.panel_path is not None:
             mtime = self._mtime(self.panel_path)
             if mtime != self._panel_mtime:
@@ -277,7 +307,12 @@ class Workspace:
     def state(self) -> Dict[str, Any]:
         """All the page needs when it loads."""
         with self.lock:
-            script = {"name": self.name, "text": self.text, "saved": self.text == self.saved}
+            script = {
+                "name": self.name,
+                "text": self.text,
+                "saved": self.text == self.saved,
+                "version": self.version,
+            }
         return {
             "script": script,
             "vocabulary": vocabulary(),

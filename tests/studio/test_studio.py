@@ -113,6 +113,20 @@ def test_a_press_switches_the_preview_to_the_session_and_play_switches_back():
     assert preview.mode == SCRIPT and t == pytest.approx(0.6)
 
 
+def test_the_session_clock_never_runs_past_the_session_length_it_shows():
+    preview = Preview(seed=3, idle=False)
+    preview.load(parse("look left in 1s\nwait 8s", "x.face"))
+    assert preview.status(0.0)["duration"] == 9.0
+    preview.press("happy", 10.0)
+    early = preview.status(10.2)
+    assert early["mode"] == SESSION and early["t"] == 0.2
+    assert early["duration"] == round(preview.session.timeline.duration, 3) > early["t"]
+    late = preview.status(32.21)  # long after the press's face has settled: the session goes on
+    assert late["t"] == late["duration"] == 22.21
+    preview.play(33.0)
+    assert preview.status(33.0)["duration"] == 9.0  # back on the script: its own length
+
+
 def test_the_preview_says_what_is_heard_while_it_plays(engine):
     preview = Preview(seed=3, idle=False)
     script = 'happy\nwait 1s\ntogether {\n  say "Hello there."\n  say "Yes." voice en-gb\n}'
@@ -143,6 +157,20 @@ def test_the_default_panel_has_emotions_looks_actions_and_phrases():
     keys = [b.key for b in buttons if b.key]
     assert len(keys) == len(set(keys))
     assert {"ArrowLeft", "1"} <= set(keys)  # key names and characters both load
+
+
+def test_the_default_panels_head_shake_turns_both_ways_and_comes_back():
+    shake = next(b for b in load_panel() if b.label == "Shake head")
+    timeline = compile_script(parse(shake.command, "panel"), 1)
+    pans = [timeline.sample(i / 50).head_pan for i in range(int(timeline.duration * 50) + 1)]
+    assert max(pans) > 0.2 and min(pans) < -0.2
+    assert timeline.sample(timeline.duration).head_pan == 0.0
+    assert timeline.duration <= 1.5  # a shake, not a look around
+
+
+def test_the_default_panels_comment_says_what_a_key_may_be():
+    comment = json.loads(DEFAULT_PANEL.read_text())["_comment"]
+    assert "single-character" not in comment and "ArrowLeft" in comment
 
 
 @pytest.mark.parametrize(
@@ -227,6 +255,7 @@ def test_the_api_checks_plays_commands_and_shows_the_frame(folder):
             "name": "show.face",
             "text": (folder / "show.face").read_text(),
             "saved": True,
+            "version": 0,
         }
         assert [s["text"] for s in answer["timeline"]["spans"]][:2] == [
             "happy",
@@ -257,9 +286,39 @@ def test_the_sound_of_what_is_said_is_served_as_wav(folder, engine):
 def test_saving_writes_the_script_whole_and_nothing_else(folder):
     with running_studio(folder / "show.face") as studio:
         status, answer = studio.json("POST", "/api/save", "sad\nwait 2s\n")
-        assert status == 200 and answer == {"saved": True, "name": "show.face"}
+        assert status == 200 and answer == {"saved": True, "name": "show.face", "version": 1}
         assert (folder / "show.face").read_text() == "sad\nwait 2s\n"
         assert sorted(p.name for p in folder.iterdir() if not p.name.startswith(".studio-")) == ["show.face"]
+
+
+def test_a_save_over_a_change_on_disk_is_refused_unless_forced(folder):
+    script = folder / "show.face"
+    with running_studio(script) as studio:
+        assert studio.json("POST", "/api/save?base=0", "sad\n")[1]["version"] == 1
+        script.write_text("angry\n")  # another editor saves: the page's version 1 is old now
+        status, answer = studio.json("POST", "/api/save?base=1", "mine\n")
+        assert status == 409 and answer["conflict"] and "changed on disk" in answer["error"]
+        assert script.read_text() == "angry\n"  # untouched
+        # Once the studio has seen the change, the page learns its version and can save over it.
+        version = _wait_for_version(studio, 2)
+        assert studio.json("POST", f"/api/save?base={version}", "happy\n")[0] == 200
+        script.write_text("bored\n")
+        assert studio.json("POST", "/api/save?base=3", "happy\n")[0] == 409
+        status, answer = studio.json("POST", "/api/save?force=1", "happy\n")
+        assert status == 200 and script.read_text() == "happy\n"
+        assert studio.json("POST", "/api/save?base=x1", "happy\n")[0] == 400
+
+
+def _wait_for_version(studio, version, timeout=10.0):
+    """The script's version once the studio has looked at the disk (every half second)."""
+    import time
+
+    deadline = time.monotonic() + timeout
+    while True:
+        current = studio.json("GET", "/api/state")[1]["script"]["version"]
+        if current >= version or time.monotonic() > deadline:
+            return current
+        time.sleep(0.05)
 
 
 def test_a_new_script_is_made_on_first_save(tmp_path):

@@ -76,6 +76,15 @@ def test_a_button_and_a_shortcut_change_the_preview_and_are_logged(page):
         "document.getElementById('session').textContent",
     )
     assert log.index("look left in 0.4s") < log.index("sad")
+    # The clock and the slider follow the live session: its time never passes its length.
+    clock = wait_for(
+        driver,
+        "(() => { const s = document.getElementById('scrub');"
+        " return s.disabled && Number(s.value) > 1 && Number(s.value) <= Number(s.max)"
+        " && document.getElementById('time').textContent; })()",
+    )
+    shown, length = map(float, re.fullmatch(r"([\d.]+) / ([\d.]+) s", clock).groups())
+    assert 1 < shown <= length
     _, session = studio.json("GET", "/api/state")
     assert [p["command"] for p in session["session"]["presses"]] == ["look left in 0.4s", "sad"]
 
@@ -140,3 +149,38 @@ def test_the_script_is_heard_from_where_it_is_played_and_pausing_stops_it(page, 
     wait_for(driver, "window.studio.sounds().length === 1")
     driver.find_element("css selector", "#play").click()  # pause
     wait_for(driver, "window.studio.sounds().length === 0")
+
+
+def test_ctrl_s_asks_before_it_overwrites_a_change_made_on_disk(folder):
+    from selenium.webdriver.common.keys import Keys
+    from selenium.webdriver.support import expected_conditions
+    from selenium.webdriver.support.ui import WebDriverWait
+
+    script = folder / "show.face"
+    with running_studio(script, "--no-idle") as studio, chromium() as driver:
+        driver.get(studio.url)
+        wait_for(driver, "window.studio && document.querySelector('.cm-editor')")
+        content = driver.find_element("css selector", ".cm-content")
+        content.click()
+        driver.execute_script(
+            "const v = window.studio.editor.view; v.dispatch({selection: {anchor: v.state.doc.length}});"
+        )
+        content.send_keys("blink")
+        wait_for(driver, "document.getElementById('saved').textContent === 'unsaved'")
+        script.write_text("sad\nwait 3s\n")  # someone else's change, while the editor has its own
+        wait_for(driver, "document.getElementById('notice').textContent.includes('changed on disk')")
+
+        def ctrl_s():
+            content.send_keys(Keys.CONTROL, "s")
+            return WebDriverWait(driver, 10).until(expected_conditions.alert_is_present())
+
+        asked = ctrl_s()
+        assert "changed on disk" in asked.text
+        asked.dismiss()
+        wait_for(driver, "document.getElementById('notice').textContent.startsWith('not saved')")
+        assert script.read_text() == "sad\nwait 3s\n"  # kept
+        ctrl_s().accept()
+        wait_for(driver, "document.getElementById('saved').textContent === 'saved'")
+        assert script.read_text() == "happy\nlook left in 1s\nwait 1s\nblink"
+        # The page's one failed request is the refused save, answered 409 as meant.
+        assert all("409" in e["message"] for e in errors_in_console(driver))

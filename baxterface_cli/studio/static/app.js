@@ -75,11 +75,23 @@
     }, 150);
   }
 
+  // The version of the file the editor's text is based on: a save over a file that changed on disk
+  // since then is answered 409, and the page asks before it overwrites that change.
+  let version = 0;
+
   async function save() {
     const text = editor.getText();
-    const { ok, data } = await api("POST", "/api/save", text);
+    let { ok, status, data } = await api("POST", `/api/save?base=${version}`, text);
+    if (status === 409) {
+      if (!window.confirm(`${$("name").textContent} changed on disk since you loaded it. Overwrite that change with the editor's text?`)) {
+        $("notice").textContent = `not saved: ${data.error}`;
+        return;
+      }
+      ({ ok, status, data } = await api("POST", "/api/save?force=1", text));
+    }
     if (ok) {
       saved = text;
+      version = data.version;
       $("notice").textContent = "";
       markSaved();
     } else {
@@ -90,17 +102,19 @@
   function diskChanged(message) {
     if (editor.getText() === saved) {
       saved = message.text;
+      version = message.version;
       editor.setText(message.text);
       markSaved();
       return;
     }
-    saved = message.text;
+    saved = message.text; // the editor's own text stays, and still says it is based on the old version
     const notice = $("notice");
     notice.replaceChildren(`${message.name} changed on disk `);
     const reload = document.createElement("button");
     reload.textContent = "Reload";
     reload.onclick = () => {
       editor.setText(message.text);
+      version = message.version;
       notice.replaceChildren();
       markSaved();
     };
@@ -132,7 +146,12 @@
     $("mode").textContent = s.mode === "session" ? "live session" : "script";
     $("time").textContent = `${s.t.toFixed(2)} / ${s.duration.toFixed(2)} s`;
     $("loop").checked = s.loop;
-    if (!dragging && s.mode === "script") $("scrub").value = String(s.t);
+    // The slider follows what is shown: the script along its length, or the live session, which
+    // grows with the clock and is watched rather than sought (Play goes back to the script).
+    const scrub = $("scrub");
+    scrub.max = String(s.duration || 1);
+    scrub.disabled = s.mode === "session";
+    if (!dragging || s.mode === "session") scrub.value = String(s.t);
     if (s.mode === "script") {
       [...$("timeline").children].forEach((li, i) => {
         const span = spans[i];
@@ -402,6 +421,7 @@
     const { data: state } = await api("GET", "/api/state");
     $("name").textContent = state.script.name;
     saved = state.script.saved ? state.script.text : "";
+    version = state.script.version;
     editor = window.BaxterEditor.create($("editor"), {
       doc: state.script.text,
       vocabulary: state.vocabulary,
