@@ -1,6 +1,10 @@
 """Files and folders being written, beside the name they will be renamed to.
 
-A partial is named `.NAME.PID.RANDOM.baxterface-partial`: created
+A `PartialFile` is, where Linux allows it, a file with no name at all
+(O_TMPFILE) in the target's folder: a writer killed with SIGKILL, or one
+that fails, leaves nothing behind, and the file gets a name only for the
+instant between linking and renaming it into place. Elsewhere, and for
+folders, a partial is named `.NAME.PID.RANDOM.baxterface-partial`: created
 exclusively (never through a link someone planted, never shared by two
 writers), and with the writer's process id, so that one left by a killed
 writer can be told apart from one still being written, and removed.
@@ -8,6 +12,8 @@ writer can be told apart from one still being written, and removed.
 
 from __future__ import annotations
 
+import contextlib
+import errno
 import os
 import re
 import secrets
@@ -15,7 +21,7 @@ import shutil
 import stat
 import tempfile
 from pathlib import Path
-from typing import BinaryIO, Tuple
+from typing import BinaryIO, Optional, Tuple
 
 SUFFIX = ".baxterface-partial"
 _NAME = re.compile(r"^\..+\.(\d+)\.[A-Za-z0-9_]+" + re.escape(SUFFIX) + r"$")
@@ -29,7 +35,7 @@ def _prefix(target: Path) -> str:
 def create_file(target: Path) -> Tuple[Path, BinaryIO]:
     """A new, empty partial file for `target`, open for writing."""
     for _ in range(100):
-        path = target.with_name(f"{_prefix(target)}{secrets.token_hex(4)}{SUFFIX}")
+        path = _partial_name(target)
         try:
             # O_EXCL fails on any existing name, a link included; 0o666 lets
             # the umask decide, as for any file the user writes.
@@ -40,6 +46,76 @@ def create_file(target: Path) -> Tuple[Path, BinaryIO]:
     raise FileExistsError(f"no free temporary name beside {target}")
 
 
+class PartialFile:
+    """A file being written for `target`: unseen until `commit`, gone after `discard`.
+
+    `named=True` gives it a name from the start, for a program that opens
+    it by name (ffmpeg); `path` is that name (None for an unnamed file).
+    """
+
+    def __init__(self, target: Path, named: bool = False) -> None:
+        self.target = target
+        self.path: Optional[Path] = None
+        fd = None if named else _unnamed(target.parent)
+        if fd is None:
+            self.path, self.file = create_file(target)
+        else:
+            self.file = os.fdopen(fd, "wb")
+
+    def commit(self) -> None:
+        """Close the file and put it in place under `target`, replacing what was there."""
+        if self.path is None:  # give it a name first: a link cannot replace an existing file
+            self.file.flush()
+            path = _partial_name(self.target)
+            _link(self.file.fileno(), path)
+            self.path = path
+        self.file.close()
+        try:
+            os.replace(self.path, self.target)
+        except BaseException:
+            remove(self.path)
+            raise
+
+    def discard(self) -> None:
+        """Close the file and remove what was written."""
+        with contextlib.suppress(OSError):
+            self.file.close()
+        if self.path is not None:
+            remove(self.path)
+
+
+def _link(fd: int, path: Path) -> None:
+    """Give the unnamed file `fd` the name `path`.
+
+    linkat(AT_SYMLINK_FOLLOW) through /proc follows the descriptor's link to
+    the file itself; Python calls linkat (not link, which would try to link
+    /proc's own entry) only when given a folder descriptor, so it gets one.
+    """
+    folder = os.open(str(path.parent), os.O_RDONLY)
+    try:
+        os.link(f"/proc/self/fd/{fd}", path.name, src_dir_fd=folder, dst_dir_fd=folder, follow_symlinks=True)
+    finally:
+        os.close(folder)
+
+
+def _partial_name(target: Path) -> Path:
+    return target.with_name(f"{_prefix(target)}{secrets.token_hex(4)}{SUFFIX}")
+
+
+def _unnamed(folder: Path) -> Optional[int]:
+    """An unnamed file in `folder`, open for writing; None where the system or disk has none."""
+    flag = getattr(os, "O_TMPFILE", 0)
+    if not flag or not os.path.isdir("/proc/self/fd"):
+        return None
+    try:
+        # 0o666: the umask decides, as for any file the user writes.
+        return os.open(str(folder), flag | os.O_WRONLY | getattr(os, "O_CLOEXEC", 0), 0o666)
+    except OSError as e:
+        if e.errno in (errno.EOPNOTSUPP, errno.EISDIR, errno.EINVAL, errno.ENOENT):
+            return None  # a file system without O_TMPFILE: a named partial instead
+        raise
+
+
 def create_folder(target: Path) -> Path:
     """A new, empty partial folder for `target`, writable by this user only."""
     return Path(tempfile.mkdtemp(prefix=_prefix(target), suffix=SUFFIX, dir=str(target.parent)))
@@ -47,13 +123,12 @@ def create_folder(target: Path) -> Path:
 
 def write_atomic(path: Path, data: bytes) -> None:
     """`data` as the file `path`, which is whole or untouched, never half-written."""
-    tmp, file = create_file(path)
+    partial = PartialFile(path)
     try:
-        with file:
-            file.write(data)
-        os.replace(tmp, path)
+        partial.file.write(data)
+        partial.commit()
     except BaseException:
-        remove(tmp)
+        partial.discard()
         raise
 
 

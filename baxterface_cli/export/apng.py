@@ -9,7 +9,6 @@ for a 20-second show at 1024x600): this one keeps one.
 from __future__ import annotations
 
 import io
-import os
 import struct
 import zlib
 from pathlib import Path
@@ -18,8 +17,7 @@ from typing import List, Optional, Tuple
 import numpy as np
 from PIL import Image
 
-from ..core import partial_files as partial
-from .sink import Export, FrameSink
+from .sink import Export, FileSink
 
 SIGNATURE = b"\x89PNG\r\n\x1a\n"
 
@@ -41,14 +39,13 @@ def _image_data(rgb: np.ndarray) -> bytes:
     return b"".join(parts)
 
 
-class ApngWriter(FrameSink):
+class ApngWriter(FileSink):
     """Each frame is the rectangle that changed, over the frame before; identical frames merge."""
 
     def __init__(self, path: Path, export: Export) -> None:
-        self.path = path
+        super().__init__(path)
         self.fps = export.fps
         self.width, self.height = export.size
-        self.tmp, self.file = partial.create_file(path)
         try:
             header = struct.pack(">IIBBBBB", self.width, self.height, 8, 2, 0, 0, 0)  # 8-bit RGB
             self.file.write(SIGNATURE + _chunk(b"IHDR", header))
@@ -104,17 +101,11 @@ class ApngWriter(FrameSink):
         self.written += 1
         self.pending = None
 
-    def close(self) -> None:
+    def finish(self) -> None:
         self._flush()
         self.file.write(_chunk(b"IEND", b""))
         self.file.seek(self.actl_at)
         self.file.write(_chunk(b"acTL", struct.pack(">II", self.written, 0)))
-        self.file.close()
-        os.replace(self.tmp, self.path)
-
-    def abort(self) -> None:
-        self.file.close()
-        partial.remove(self.tmp)
 
 
 def _delay(frames: int, fps: float) -> Tuple[int, int]:

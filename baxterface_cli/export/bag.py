@@ -29,11 +29,10 @@ from typing import Any, Dict, List, NamedTuple, Optional, Tuple
 
 import numpy as np
 
-from ..core import partial_files as partial
 from ..extras import need
 from ..ros.messages import DEFINITIONS, SEPARATOR
 from ..ros.wire import COMMAND_TYPES, DISPLAY_TOPICS, ros_commands
-from .sink import Export, FrameSink
+from .sink import Export, FileSink
 
 # Chunks of about what `rosbag record` makes (768 KB); a frame is bigger, so
 # most chunks hold one frame and the writer keeps at most one chunk in memory.
@@ -233,7 +232,7 @@ class _Chunk:
         self.size += sum(len(p) for p in record_parts)
 
 
-class BagWriter(FrameSink):
+class BagWriter(FileSink):
     """Frames and robot effects into a bag, streamed a chunk at a time."""
 
     def __init__(
@@ -258,10 +257,9 @@ class BagWriter(FrameSink):
         self._chunk_infos: List[Tuple[int, int, int, Dict[int, int]]] = []
         self._previous: Optional[np.ndarray] = None
         self._seq = 0
-        self._path = Path(path)
-        self._tmp, self._file = partial.create_file(self._path)
+        super().__init__(Path(path))
         try:
-            self._file.write(MAGIC + self._bag_header(0))
+            self.file.write(MAGIC + self._bag_header(0))
         except BaseException:
             self.abort()
             raise
@@ -342,8 +340,8 @@ class BagWriter(FrameSink):
             content_checksum=True,
             store_size=False,
         )
-        position = self._file.tell()
-        self._file.write(
+        position = self.file.tell()
+        self.file.write(
             _record({"op": bytes([OP_CHUNK]), "compression": b"lz4", "size": _u32(len(raw))}, packed)
         )
         for connection, entries in chunk.index.items():
@@ -353,7 +351,7 @@ class BagWriter(FrameSink):
                 "conn": _u32(connection),
                 "count": _u32(len(entries)),
             }
-            self._file.write(_record(header, b"".join(_time(ns) + _u32(offset) for ns, offset in entries)))
+            self.file.write(_record(header, b"".join(_time(ns) + _u32(offset) for ns, offset in entries)))
         counts = {connection: len(entries) for connection, entries in chunk.index.items()}
         self._chunk_infos.append((position, chunk.start, chunk.end, counts))
         self._chunk = _Chunk()
@@ -370,12 +368,12 @@ class BagWriter(FrameSink):
         padding = HEADER_RECORD_BYTES - 8 - len(header)
         return _u32(len(header)) + header + _u32(padding) + b" " * padding
 
-    def close(self) -> None:
+    def finish(self) -> None:
         self._commands_until(None)
         self._write_chunk()
-        index_position = self._file.tell()
+        index_position = self.file.tell()
         for connection in self._connections.values():
-            self._file.write(self._connection_record(connection))
+            self.file.write(self._connection_record(connection))
         for position, start, end, counts in self._chunk_infos:
             header = {
                 "op": bytes([OP_CHUNK_INFO]),
@@ -385,12 +383,6 @@ class BagWriter(FrameSink):
                 "end_time": _time(end),
                 "count": _u32(len(counts)),
             }
-            self._file.write(_record(header, b"".join(_u32(c) + _u32(n) for c, n in counts.items())))
-        self._file.seek(len(MAGIC))
-        self._file.write(self._bag_header(index_position))
-        self._file.close()
-        os.replace(self._tmp, self._path)
-
-    def abort(self) -> None:
-        self._file.close()
-        partial.remove(self._tmp)
+            self.file.write(_record(header, b"".join(_u32(c) + _u32(n) for c, n in counts.items())))
+        self.file.seek(len(MAGIC))
+        self.file.write(self._bag_header(index_position))

@@ -19,7 +19,7 @@ from PIL import GifImagePlugin, Image
 
 from ..core import partial_files as partial
 from ..core.partial_files import write_atomic
-from .sink import FrameSink
+from .sink import FileSink, FrameSink
 
 TRANSPARENT = 255  # the GIF palette index meaning "as in the frame before"
 LUT_BITS = 5  # colour bits per channel of the palette lookup
@@ -129,7 +129,7 @@ def palette_lookup(palette: np.ndarray) -> np.ndarray:
     return best.reshape(side, side, side)
 
 
-class GifWriter(FrameSink):
+class GifWriter(FileSink):
     """An animated, looping GIF, written as frames arrive.
 
     All frames share one palette (the face has few colours). Each frame
@@ -140,14 +140,13 @@ class GifWriter(FrameSink):
     """
 
     def __init__(self, path: Path, size: Tuple[int, int], fps: float, palette: np.ndarray) -> None:
-        self.path = path
+        super().__init__(path)
         self.fps = fps
         self.lut = palette_lookup(palette)
         self.shift = 8 - LUT_BITS
         padded = np.zeros((256, 3), np.uint8)
         padded[: len(palette)] = palette
         self.palette_bytes = padded.tobytes()
-        self.tmp, self.file = partial.create_file(path)  # closed in close() or abort()
         template = Image.new("P", size)
         template.putpalette(self.palette_bytes)
         header, _ = GifImagePlugin.getheader(template, self.palette_bytes, {"loop": 0})
@@ -207,12 +206,6 @@ class GifWriter(FrameSink):
             self.file.write(chunk)
         self.pending = None
 
-    def close(self) -> None:
+    def finish(self) -> None:
         self._flush()
         self.file.write(b";")
-        self.file.close()
-        os.replace(self.tmp, self.path)
-
-    def abort(self) -> None:
-        self.file.close()
-        partial.remove(self.tmp)

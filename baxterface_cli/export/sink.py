@@ -9,10 +9,12 @@ exception aborts it, so no partial file outlives a failure.
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
+from pathlib import Path
 from typing import Any, Callable, NamedTuple, Optional, Sequence, Tuple
 
 import numpy as np
 
+from ..core.partial_files import PartialFile
 from ..engine.effects import Cue
 
 Size = Tuple[int, int]
@@ -54,6 +56,42 @@ class FrameSink(ABC):
             self.close()
         else:
             self.abort()
+
+
+class FileSink(FrameSink):
+    """A sink that writes one file, unseen until it is whole (a `PartialFile`).
+
+    A writer writes into `self.file` as frames come, says in `finish` what
+    ends the file, and in `release` how to let go of an encoder after a
+    failure; closing, aborting and the partial file are all here.
+    """
+
+    named = False  # True for a writer whose encoder opens the file by its name (`partial.path`)
+
+    def __init__(self, path: Path) -> None:
+        self.path = path
+        self.partial = PartialFile(path, named=self.named)
+        self.file = self.partial.file
+
+    def finish(self) -> None:
+        """Write what ends the file (trailers, an index): every frame is in."""
+
+    def release(self) -> None:
+        """Let go of whatever writes into the file, after a failure."""
+
+    def close(self) -> None:
+        try:
+            self.finish()
+            self.partial.commit()
+        except BaseException:
+            self.abort()
+            raise
+
+    def abort(self) -> None:
+        try:
+            self.release()
+        finally:
+            self.partial.discard()
 
 
 class FormatError(ValueError):

@@ -22,10 +22,9 @@ from typing import Any, Dict, List, NamedTuple, Optional
 
 import numpy as np
 
-from ..core import partial_files as partial
 from ..extras import MissingTool
 from ..speech.soundtrack import resample, write_wav
-from .sink import Export, FormatError, FrameSink
+from .sink import Export, FileSink, FormatError, FrameSink
 
 
 class Codec(NamedTuple):
@@ -86,21 +85,24 @@ def _rate(fps: float) -> Fraction:
     return Fraction(fps).limit_denominator(1001)
 
 
-class PyAvVideo(FrameSink):
+class PyAvVideo(FileSink):
     """Frames encoded in this process by PyAV (FFmpeg's libraries)."""
 
     def __init__(self, path: Path, export: Export, codec: Codec) -> None:
         import av
 
-        self.path = path
+        super().__init__(path)
         self.export = export
-        # Written through the file we created, never reopened by name. (So no
+        # Written into the file we created, never reopened by its name. (So no
         # `faststart`, which reopens it: the index comes last, as players expect.)
-        self.tmp, self.file = partial.create_file(path)
+        # FFmpeg writes it through /proc's link to our own descriptor where there
+        # is one: through a Python file object, a full disk made PyAV print
+        # tracebacks of its write and seek callbacks before our one-line error.
+        target: Any = self.file
+        if os.path.isdir("/proc/self/fd"):
+            target = f"/proc/self/fd/{self.file.fileno()}"
         try:
-            self.container = av.open(
-                self.file, mode="w", format=codec.container, container_options=codec.muxer
-            )
+            self.container = av.open(target, mode="w", format=codec.container, container_options=codec.muxer)
             rate = _rate(export.fps)
             self.stream = self.container.add_stream(codec.video, rate=rate, options=codec.options)
             self.stream.width, self.stream.height = export.size
@@ -142,33 +144,30 @@ class PyAvVideo(FrameSink):
         for packet in stream.encode(None):
             self.container.mux(packet)
 
-    def close(self) -> None:
+    def finish(self) -> None:
         for packet in self.stream.encode(None):
             self.container.mux(packet)
         if self.audio is not None:
             self._encode_audio()
         self.container.close()
-        self.file.close()
-        os.replace(self.tmp, self.path)
 
-    def abort(self) -> None:
+    def release(self) -> None:
         try:
             container = getattr(self, "container", None)
             if container is not None:
                 container.close()
         except Exception:  # half-written: closing may fail; the file goes anyway
             pass
-        self.file.close()
-        partial.remove(self.tmp)
 
 
-class FfmpegVideo(FrameSink):
+class FfmpegVideo(FileSink):
     """Frames piped as raw BGR to an `ffmpeg` program, which encodes and writes them."""
 
+    named = True  # ffmpeg writes into it by name
+
     def __init__(self, path: Path, export: Export, codec: Codec, program: str) -> None:
-        self.path = path
-        self.tmp, file = partial.create_file(path)  # ffmpeg writes into it by name
-        file.close()
+        super().__init__(path)
+        self.file.close()
         self.sound: Optional[str] = None
         width, height = export.size
         args = [program, "-hide_banner", "-loglevel", "error", "-nostdin", "-y"]
@@ -178,10 +177,14 @@ class FfmpegVideo(FrameSink):
             self.sound = _wav_file(*export.audio)
             args += ["-i", self.sound, "-c:a", codec.audio]
         args += ["-c:v", codec.video, *codec.ffmpeg, "-pix_fmt", codec.pix_fmt]
-        args += ["-f", codec.container, str(self.tmp)]
-        self.process: Any = subprocess.Popen(
-            args, stdin=subprocess.PIPE, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE
-        )
+        args += ["-f", codec.container, str(self.partial.path)]
+        try:
+            self.process: Any = subprocess.Popen(
+                args, stdin=subprocess.PIPE, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE
+            )
+        except BaseException:
+            self.abort()
+            raise
 
     def add(self, frame_bgr: np.ndarray, t: float = 0.0) -> None:
         try:
@@ -197,17 +200,16 @@ class FfmpegVideo(FrameSink):
             last = error.splitlines()[-1] if error else f"exit code {self.process.returncode}"
             raise OSError(f"ffmpeg failed: {last}")
 
-    def close(self) -> None:
+    def finish(self) -> None:
         self._finish()
         self._forget_sound()
-        os.replace(self.tmp, self.path)
 
-    def abort(self) -> None:
-        if self.process.poll() is None:
-            self.process.kill()
-            self.process.wait()
+    def release(self) -> None:
+        process = getattr(self, "process", None)
+        if process is not None and process.poll() is None:
+            process.kill()
+            process.wait()
         self._forget_sound()
-        partial.remove(self.tmp)
 
     def _forget_sound(self) -> None:
         if self.sound:

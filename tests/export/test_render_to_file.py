@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+import contextlib
 import os
 import signal
 import subprocess
 import sys
 import time
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -116,8 +118,19 @@ def test_quiet_without_a_terminal(tmp_path):
     assert (run.code, run.out, run.err) == (0, "", "")
 
 
-@pytest.mark.parametrize("signum", [signal.SIGTERM, signal.SIGINT])
-@pytest.mark.parametrize("target", ["long.gif", "frames/", "long.mp4", "long.apng", "long.bag"])
+def writing_in(pid, folder):
+    """Is process `pid` writing in `folder`: a file open there (named or not), or a partial folder?"""
+    fds = Path(f"/proc/{pid}/fd")
+    held = []
+    for fd in fds.iterdir() if fds.is_dir() else []:
+        with contextlib.suppress(OSError):
+            held.append(os.readlink(str(fd)))
+    named = any(p.name.startswith(".") for p in folder.iterdir())
+    return named or any(h.startswith(f"{folder}/") for h in held)
+
+
+@pytest.mark.parametrize("signum", [signal.SIGTERM, signal.SIGINT, signal.SIGKILL])
+@pytest.mark.parametrize("target", ["long.gif", "frames/", "long.mp4", "long.apng", "long.bag", "long.webp"])
 def test_a_render_killed_halfway_leaves_no_partial_file(tmp_path, signum, target):
     # Long enough to be caught in the act: 2 minutes of looking about.
     text = "repeat 60 { look 40 -20 in 1s; look -40 20 in 1s }"
@@ -128,7 +141,7 @@ def test_a_render_killed_halfway_leaves_no_partial_file(tmp_path, signum, target
         stderr=subprocess.PIPE,
     )
     deadline = time.monotonic() + 60
-    while not any(p.name.startswith(".") for p in tmp_path.iterdir()):  # the render has begun writing
+    while not writing_in(proc.pid, tmp_path):  # the render has begun writing
         assert proc.poll() is None and time.monotonic() < deadline
         time.sleep(0.05)
     time.sleep(0.3)
@@ -136,6 +149,13 @@ def test_a_render_killed_halfway_leaves_no_partial_file(tmp_path, signum, target
     _, err = proc.communicate(timeout=60)
     assert proc.returncode != 0
     assert b"Traceback" not in err
+    if signum == signal.SIGKILL and target.endswith("/"):
+        # A folder of frames cannot be written unnamed: a killed render leaves its hidden partial
+        # folder, and the next render into the same place clears it away.
+        assert [p.name.endswith(".baxterface-partial") for p in tmp_path.iterdir()] == [True]
+        assert baxterface("render", "-e", "blink", "--out", f"{tmp_path}/other.gif").code == 0
+        assert [p.name for p in tmp_path.iterdir()] == ["other.gif"]
+        return
     assert list(tmp_path.iterdir()) == [], os.listdir(tmp_path)
 
 
@@ -316,3 +336,28 @@ def test_sizes_that_would_exhaust_memory_are_refused(tmp_path, size, message):
     run = baxterface("render", "-e", "happy", "--size", size, "--out", "x.png", cwd=tmp_path)
     assert run.code == 2 and message in " ".join(run.err.replace("│", " ").split())  # unwrapped
     assert list(tmp_path.iterdir()) == []
+
+
+@pytest.fixture
+def small_disk(tmp_path):
+    """A file system of 1 MB of its own (tmpfs), for a render to fill."""
+    mount = tmp_path / "small"
+    mount.mkdir()
+    if os.geteuid() != 0:
+        pytest.skip("mounting a small file system needs root")
+    done = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=1m", "tmpfs", str(mount)], capture_output=True)
+    if done.returncode != 0:
+        pytest.skip(f"cannot mount a tmpfs here: {done.stderr.decode().strip()}")
+    yield mount
+    subprocess.run(["umount", str(mount)], check=True)
+
+
+@pytest.mark.parametrize("target", ["x.gif", "frames/", "x.mp4", "x.apng", "x.bag", "x.webp", "x.wav"])
+def test_a_full_disk_is_one_line_and_leaves_nothing(small_disk, target):
+    text = 'repeat 20 { look 40 -20 in 1s; look -40 20 in 1s }\nsay "' + "la " * 300 + '"'
+    run = baxterface("render", "-e", text, "--out", f"{small_disk}/{target}", "--size", "1024x600")
+    assert run.code == 1
+    assert (
+        run.err.strip() == f"baxterface render: cannot write {small_disk}/{target}: No space left on device"
+    )
+    assert list(small_disk.iterdir()) == []

@@ -277,7 +277,7 @@ def test_a_bad_audio_value_stops_the_node_with_one_line(roscore):
         run = baxterface("node", "_audio:=loud", env=roscore)
     finally:
         subprocess.run(["rosparam", "delete", "/baxter_face"], env=roscore, capture_output=True, timeout=30)
-    assert run.code == 1  # as for a bad _fps or _size
+    assert run.code == 2  # as for a bad _fps or _size: a usage error (docs/ros.md)
     assert run.err.strip().splitlines() == [
         "baxterface node: ~audio must be soundplay, local or none, not 'loud'"
     ], run.err
