@@ -56,8 +56,9 @@ def studio(
     except MissingTool as e:
         raise fail(f"baxterface studio: {e}") from None
     from ..drawing.renderer import Renderer
+    from ..studio.api import create_app
     from ..studio.guard import is_loopback
-    from ..studio.server import bind, create_app, serve, url_for
+    from ..studio.server import bind, serve, url_for
     from ..studio.workspace import Workspace
 
     path = Path(script_path or "studio.face")
