@@ -79,6 +79,17 @@ class Topic:
                 assert left > 0, f"no such message on {self.sub.name} ({len(self.messages)} seen)"
                 self.arrived.wait(left)
 
+    def wait_for_count(self, count, timeout=15.0):
+        """Until `count` messages have come in all."""
+        self.wait_for(lambda m: len(self.messages) >= count, timeout=timeout)
+
+    def wait_for_publisher(self, timeout=15.0):
+        """Until a publisher (the node's) is connected: what it sends from now on reaches us."""
+        deadline = time.monotonic() + timeout
+        while self.sub.get_num_connections() == 0:
+            assert time.monotonic() < deadline, f"nothing publishes on {self.sub.name}"
+            time.sleep(0.02)
+
     def close(self):
         self.sub.unregister()
 
@@ -200,23 +211,25 @@ def test_the_head_is_never_commanded_while_the_robot_says_disabled(ros, node):
     robot = rospy.Publisher("/robot/state", AssemblyState, latch=True, queue_size=1)
     pan = Topic("/robot/head/command_head_pan", message_class("HeadPanCommand"))
     proc, state = node
+    pan.wait_for_publisher()
     robot.publish(AssemblyState(enabled=False))
     report(state, test=lambda r: r["enabled"] is False)
-    rostopic_pub(ros, "wobble_0.5")
+    rostopic_pub(ros, "wobble_0.3")
     rostopic_pub(ros, "happy")  # a later command shows the first was handled
     report(state, test=lambda r: r["emotion"] == "happy")
-    time.sleep(0.5)
-    assert pan.messages == []
     robot.publish(AssemblyState(enabled=True))
     report(state, test=lambda r: r["enabled"] is True)
     rostopic_pub(ros, "wobble_0.5")
-    assert pan.wait_for().target == pytest.approx(0.5)
+    pan.wait_for(lambda m: m.target == pytest.approx(0.5))
+    # One connection keeps the node's order: a command for 0.3 would have come first.
+    assert [round(m.target, 3) for _, m in pan.messages][:1] == [0.5]
     pan.close()
     robot.unregister()
 
 
 def test_enable_is_repeated_until_the_robot_agrees(ros, node):
     import rospy
+    from sensor_msgs.msg import Image
     from std_msgs.msg import Bool
 
     from baxterface_cli.ros.messages import message_class
@@ -232,10 +245,20 @@ def test_enable_is_repeated_until_the_robot_agrees(ros, node):
         assert time.monotonic() < deadline
         time.sleep(0.05)
     robot.publish(AssemblyState(enabled=True))
-    time.sleep(0.5)
-    settled = len(enable.messages)
-    time.sleep(0.6)
-    assert len(enable.messages) == settled  # it stopped asking once the robot agreed
+    proc, state = node
+    report(state, test=lambda r: r["enabled"] is True)
+    settled = len(enable.messages)  # at most one more may be on its way now
+    # Let the node's own clock run: 15 frames of a moving face take half a second at 30 fps, in
+    # which it would ask 5 more times if it had not stopped. Then `disable`: its False comes after
+    # any True the node sent before it, on the one connection.
+    screen = Topic("/robot/xdisplay", Image)
+    rostopic_pub(ros, "look left in 2s")
+    screen.wait_for_count(15)
+    rostopic_pub(ros, "disable")
+    enable.wait_for(lambda m: m.data is False)
+    asked = [m.data for _, m in enable.messages[settled:]]
+    assert asked.index(False) <= 1  # it stopped asking once the robot agreed: no True but one in flight
+    screen.close()
     enable.close()
     robot.unregister()
 
@@ -433,14 +456,26 @@ def test_stream_does_not_turn_the_head_of_a_disabled_robot(ros):
     robot = rospy.Publisher("/robot/state", AssemblyState, latch=True, queue_size=1)
     robot.publish(AssemblyState(enabled=False))
     pan = Topic("/robot/head/command_head_pan", message_class("HeadPanCommand"))
+    script = "wait 2s; wobble 0.5 in 0.2s; wait 3s; wobble -0.3 in 0.2s"
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "baxterface_cli", "stream", "--no-idle", "-e", script],
+        cwd=str(ROOT),
+        env=ros,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
     try:
-        run = baxterface("stream", "--no-idle", "-e", "wait 0.5; wobble 0.5 in 0.2s", env=ros)
-        assert run.code == 0, run.err
-        assert pan.messages == []
-        assert "the robot is disabled: not turning the head to 0.50 rad" in run.err
+        pan.wait_for_publisher()  # the stream's head publisher, two seconds before its first wobble
+        for line in proc.stderr:  # it says it did not turn the head...
+            if "the robot is disabled: not turning the head to 0.50 rad" in line:
+                break
+        robot.publish(AssemblyState(enabled=True))  # ...and turns it once the robot is enabled
+        assert pan.wait_for(timeout=15).target == pytest.approx(-0.3)  # the first it sent
+        assert proc.wait(timeout=30) == 0
     finally:
-        robot.publish(AssemblyState(enabled=True))
-        time.sleep(0.3)
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
         robot.unregister()
         pan.close()
 
@@ -588,7 +623,8 @@ def test_hand_poses_move_the_eyes_at_the_frame_rate(ros, node):
     # The node reported at its own pace, not once per pose.
     assert len(state.messages) - seen < 100
     hand.publish(EndpointState(pose=Pose(position=Point(float("nan"), 0, 0))))
-    time.sleep(0.3)
+    rostopic_pub(ros, "arm_follow_off")  # answered after the bad pose: the node is up and well
+    report(state, test=lambda r: r["following"] is None)
     assert proc.poll() is None
     hand.unregister()
 
@@ -713,8 +749,11 @@ def test_a_button_press_sends_exactly_one_command(ros):
             left.publish(NavigatorState(button_names=names, buttons=[False, held, False], wheel=10))
             time.sleep(0.1)
         assert chatter.wait_for().data == "wake_up"
-        time.sleep(0.5)
-        assert [m.data for _, m in chatter.messages] == ["wake_up"]
+        for held in [True, False]:  # then the button below: sleep, sent after any repeat of wake_up
+            left.publish(NavigatorState(button_names=names, buttons=[False, False, held], wheel=10))
+            time.sleep(0.1)
+        chatter.wait_for(lambda m: m.data == "sleep")
+        assert [m.data for _, m in chatter.messages] == ["wake_up", "sleep"]
     finally:
         proc.send_signal(signal.SIGINT)
         proc.wait(timeout=20)
