@@ -7,6 +7,7 @@ server carries on.
 
 from __future__ import annotations
 
+import asyncio
 import json
 import re
 from pathlib import Path
@@ -32,6 +33,7 @@ from .workspace import SaveConflict, Workspace, check_text, diagnostics_json
 STATIC = Path(__file__).resolve().parent / "static"
 SOUND_KEY = re.compile(r"[0-9a-f]{16}")  # as `preview.sound_key` makes them
 TRANSPORT_ACTIONS = ("play", "pause", "seek", "loop")
+HEAVY_WAITING = 16  # scripts waiting to be parsed before more are refused
 Handler = Callable[[Any, Request], Awaitable[Response]]
 
 
@@ -50,6 +52,36 @@ class BadRequest(Exception):
     pass
 
 
+class Busy(Exception):
+    pass
+
+
+class Heavy:
+    """Parsing and compiling scripts, one at a time, with a bounded queue.
+
+    They are pure Python and hold the GIL: run side by side, a flood of them
+    took the frame pump's turns and the preview stopped for seconds. One at a
+    time, the pump gets the GIL back within a switch interval; past
+    `HEAVY_WAITING` requests waiting, more are refused (429) rather than queued.
+    """
+
+    def __init__(self) -> None:
+        self._one: Optional[asyncio.Semaphore] = None  # made in the server's loop (Python 3.8)
+        self.waiting = 0
+
+    async def run(self, work: Callable[..., Any], *args: Any) -> Any:
+        if self._one is None:
+            self._one = asyncio.Semaphore(1)
+        if self.waiting >= HEAVY_WAITING:
+            raise Busy(f"busy: {self.waiting} scripts are waiting to be checked; try again in a moment")
+        self.waiting += 1
+        try:
+            async with self._one:
+                return await run_in_threadpool(work, *args)
+        finally:
+            self.waiting -= 1
+
+
 def answered(handler: Handler) -> Handler:
     """A route whose failures are answered in JSON and logged, never raised to the server."""
 
@@ -57,6 +89,8 @@ def answered(handler: Handler) -> Handler:
         self.pump.start()
         try:
             response = await handler(self, request)
+        except Busy as e:
+            response = JSONResponse({"error": str(e)}, 429, headers={"retry-after": "1"})
         except TooLarge:
             response = JSONResponse({"error": f"too large: the limit is {LIMITS.max_bytes} bytes"}, 413)
         except BadRequest as e:
@@ -76,6 +110,7 @@ class StudioApi:
         self.frames = Frames(renderer)
         self.pages = Pages()
         self.pump = Pump(workspace, self.frames, self.pages, fps)
+        self.heavy = Heavy()
 
     def routes(self) -> list:
         return [
@@ -106,11 +141,11 @@ class StudioApi:
     @answered
     async def check(self, request: Request) -> Response:
         text = await _body_text(request)
-        return JSONResponse(await run_in_threadpool(check_text, text, self.workspace.name))
+        return JSONResponse(await self.heavy.run(check_text, text, self.workspace.name))
 
     @answered
     async def script(self, request: Request) -> Response:
-        answer = await run_in_threadpool(self.workspace.update, await _body_text(request))
+        answer = await self.heavy.run(self.workspace.update, await _body_text(request))
         self.pump.wake()
         return JSONResponse(answer)
 
@@ -136,7 +171,7 @@ class StudioApi:
         if not text.strip():
             return JSONResponse({"diagnostics": [_problem("no command: the body is empty")]}, 400)
         try:
-            at = await run_in_threadpool(self.workspace.command, text)
+            at = await self.heavy.run(self.workspace.command, text)
         except ScriptError as e:
             return JSONResponse({"diagnostics": diagnostics_json(e.diagnostics)}, 400)
         except MissingTool as e:  # `say` with no speech engine here
@@ -254,10 +289,15 @@ def _reason(response: Any) -> str:
         if "diagnostics" in answer:
             first = answer["diagnostics"][0]
             place = f"{first['line']}:{first['column']}: " if first["line"] else ""
-            return f"{place}{first['message']}"
-        return str(answer["error"])
+            return _short(f"{place}{first['message']}")
+        return _short(str(answer["error"]))
     except (ValueError, KeyError, IndexError, TypeError, AttributeError):
         return "(no reason given)"
+
+
+def _short(reason: str, most: int = 300) -> str:
+    """A reason as the log keeps it: one line of a readable length, whatever was sent."""
+    return reason if len(reason) <= most else reason[:most] + "..."
 
 
 def _problem(message: str) -> Dict[str, Any]:

@@ -21,7 +21,7 @@ from ..engine.timeline import Said
 from ..language.parser import parse
 from ..language.syntax_tree import Script
 from ..speech.synthesis import Utterance
-from .session import Session
+from .session import Pending, Session
 
 SCRIPT = "script"
 SESSION = "session"
@@ -116,8 +116,18 @@ class Preview:
 
     def press(self, text: str, now: float) -> float:
         """Play `text` now, in the session; its time there. ScriptError when it is bad."""
-        at = self.session.press(text, now)
-        self._session_animation = Animation(self.session.timeline, self.idle, self.seed)
+        return self.take_press(self.prepare_press(text, now), now)
+
+    def prepare_press(self, text: str, now: float) -> Tuple[Pending, Animation]:
+        """The slow half of a press, which changes nothing (see `Session.prepare`)."""
+        pending = self.session.prepare(text, now)
+        return pending, Animation(pending.timeline, self.idle, self.seed)
+
+    def take_press(self, prepared: Tuple[Pending, Animation], now: float) -> float:
+        """The quick half: the prepared press shown from now. Stale if the session moved on."""
+        pending, animation = prepared
+        at = self.session.take(pending)
+        self._session_animation = animation
         if self.mode == SCRIPT:
             self.transport.pause(now, self.duration)
         self.mode = SESSION

@@ -17,8 +17,13 @@ def serve(app: Any, sock: Any, ready: Callable[[], None]) -> Optional[int]:
     server as soon as it is up; uvicorn hands back the ones it caught the same way.
     """
     import signal
+    import sys
 
     import uvicorn
+
+    # The frame pump waits for the GIL behind threads that parse scripts; each wait may last a
+    # whole switch interval (5 ms by default), several times a frame. As the face node does.
+    sys.setswitchinterval(0.001)
 
     stops: list = []
 

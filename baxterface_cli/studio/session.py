@@ -16,15 +16,30 @@ import time
 from typing import List, NamedTuple, Optional
 
 from ..engine.compiler import compile_script
+from ..engine.timeline import Timeline
 from ..language.diagnostics import ScriptError
 from ..language.parser import parse
 from ..language.syntax_tree import Script
+
+
+class Stale(Exception):
+    """The session changed while a press was being prepared: prepare it again."""
 
 
 class Press(NamedTuple):
     at: float  # seconds from the session's first press, to the millisecond
     command: str
     duration: float  # how long the command runs on its own
+
+
+class Pending(NamedTuple):
+    """A press prepared against one version of the session."""
+
+    generation: int
+    presses: List[Press]
+    timeline: Timeline
+    started: float
+    at: float
 
 
 def seconds(t: float) -> str:
@@ -42,25 +57,38 @@ class Session:
         self.started: Optional[float] = None  # the caller's clock at the first press
         self.began_at = ""  # wall-clock time of the first press, for the header
         self.timeline = compile_script(parse("", filename), self.seed)
+        self.generation = 0  # counts the changes, so that a press prepared meanwhile is known stale
 
     def press(self, text: str, now: float) -> float:
         """Add `text` at `now` (the caller's clock); its time in the session. ScriptError if bad.
 
         Nothing changes unless the whole session still compiles.
         """
+        return self.take(self.prepare(text, now))
+
+    def prepare(self, text: str, now: float) -> Pending:
+        """The session with `text` pressed at `now`, parsed and compiled, but not yet taken.
+
+        This is the slow part (the whole session compiles again), so the studio
+        does it without holding its lock; the session itself is only read.
+        """
+        generation, presses, started = self.generation, self.presses, self.started
         command = parse(text, "<command>")
         duration = compile_script(command, self.seed).duration
+        at = 0.0 if started is None else round(now - started, 3)
+        pressed = [*presses, Press(at, text.strip(), duration)]
+        timeline = compile_script(self._parse(self.text_of(pressed)), self.seed)
+        return Pending(generation, pressed, timeline, now if started is None else started, at)
+
+    def take(self, pending: Pending) -> float:
+        """Make a prepared press the session's; Stale if the session changed since it was prepared."""
+        if pending.generation != self.generation:
+            raise Stale()
         if self.started is None:
-            at, started = 0.0, now
-        else:
-            at, started = round(now - self.started, 3), self.started
-        presses = [*self.presses, Press(at, text.strip(), duration)]
-        script = self._parse(self.text_of(presses))
-        self.timeline = compile_script(script, self.seed)
-        self.presses = presses
-        if self.started is None:
-            self.started, self.began_at = started, time.strftime("%Y-%m-%d %H:%M:%S")
-        return at
+            self.began_at = time.strftime("%Y-%m-%d %H:%M:%S")
+        self.presses, self.timeline, self.started = pending.presses, pending.timeline, pending.started
+        self.generation += 1
+        return pending.at
 
     def _parse(self, text: str) -> Script:
         try:
@@ -75,6 +103,7 @@ class Session:
             ) from None
 
     def clear(self) -> None:
+        self.generation += 1
         self.presses, self.started, self.began_at = [], None, ""
         self.timeline = compile_script(parse("", self.filename), self.seed)
 

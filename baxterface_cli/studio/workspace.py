@@ -29,6 +29,7 @@ from ..language.vocabulary import BARE_WORDS
 from ..speech.soundtrack import write_wav
 from .panel import Button, PanelError, load_panel
 from .preview import Preview, sound_key
+from .session import Stale
 
 
 def diagnostics_json(diagnostics: List[Diagnostic]) -> List[Dict[str, Any]]:
@@ -276,8 +277,17 @@ class Workspace:
 
     def command(self, text: str) -> float:
         """Play `text` now on the preview and, when switched on, on the robot; ScriptError if bad."""
-        with self.lock:
-            at = self.preview.press(text, self.clock())
+        now = self.clock()
+        while True:
+            # Compiled without the lock, which the frame pump needs many times a second: a long
+            # session takes a while to compile again, and the preview must not stop meanwhile.
+            prepared = self.preview.prepare_press(text, now)
+            with self.lock:
+                try:
+                    at = self.preview.take_press(prepared, now)
+                    break
+                except Stale:  # another press or a clear came first: prepare it again
+                    continue
         self.robot.send(text)
         return at
 

@@ -410,3 +410,10 @@ def test_follow_face_is_a_statement_and_face_stays_a_name_elsewhere():
     assert parse("follow face dynamic; face_follow_off").body == (n.Follow("face", True), n.Follow(None))
     assert parse("dynamic_face_follow_on").body == (n.Follow("face", True),)
     assert parse("define face { blink }; face").body == (n.Define("face", (n.Blink(),)), n.Call("face"))
+
+
+def test_a_huge_unknown_word_is_shown_cut_short():
+    with pytest.raises(ScriptError) as e:
+        parse("x" * 100_000)
+    message = e.value.diagnostics[0].message
+    assert message == "unknown command '" + "x" * 40 + "...'"

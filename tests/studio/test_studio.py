@@ -127,6 +127,51 @@ def test_the_session_clock_never_runs_past_the_session_length_it_shows():
     assert preview.status(33.0)["duration"] == 9.0  # back on the script: its own length
 
 
+def test_a_press_compiles_without_holding_the_preview_still(tmp_path, monkeypatch):
+    """The frame pump reads the face many times a second: a slow press must not stop it."""
+    import threading
+
+    from baxterface_cli.studio import session as session_module
+    from baxterface_cli.studio.workspace import Workspace
+
+    (tmp_path / "show.face").write_text("happy\n")
+    workspace = Workspace(tmp_path / "show.face", idle=False)
+    compiling, finish = threading.Event(), threading.Event()
+    slow = session_module.Session.prepare
+
+    def prepare(self, text, now):
+        compiling.set()
+        assert finish.wait(30)  # a long session compiling again
+        return slow(self, text, now)
+
+    monkeypatch.setattr(session_module.Session, "prepare", prepare)
+    press = threading.Thread(target=workspace.command, args=("sad",))
+    press.start()
+    assert compiling.wait(30)
+    shown = []
+    reader = threading.Thread(target=lambda: shown.extend([workspace.face(), workspace.status()]))
+    reader.start()
+    reader.join(10)
+    try:
+        assert len(shown) == 2  # answered while the press was still compiling
+    finally:
+        finish.set()
+        press.join(30)
+    assert [p["command"] for p in workspace.session()["presses"]] == ["sad"]
+
+
+def test_a_press_prepared_against_an_older_session_is_stale():
+    from baxterface_cli.studio.session import Stale
+
+    session = Session(seed=1)
+    first, second = session.prepare("happy", 0.0), session.prepare("sad", 0.5)
+    session.take(first)
+    with pytest.raises(Stale):
+        session.take(second)
+    assert session.press("sad", 0.5) == 0.5  # prepared again, on the session as it is now
+    assert [p.command for p in session.presses] == ["happy", "sad"]
+
+
 def test_the_preview_says_what_is_heard_while_it_plays(engine):
     preview = Preview(seed=3, idle=False)
     script = 'happy\nwait 1s\ntogether {\n  say "Hello there."\n  say "Yes." voice en-gb\n}'
@@ -381,6 +426,7 @@ def test_bad_requests_are_answered_in_json_and_logged_in_one_line_each(folder):
             ("POST", "/api/transport", {}, {}, 400, "'action' must be one of play, pause, seek, loop"),
             ("POST", "/api/transport", {"action": "loop", "on": "yes"}, {}, 400, "'loop' needs 'on'"),
             ("GET", "/api/state", None, {"Host": "evil.example"}, 403, "loopback only"),
+            ("POST", "/api/command", "x" * 200_000, {}, 400, "unknown command 'xxxxxxxxxx"),
         ]
         for method, path, body, headers, code, why in asked:
             status, answer = studio.request(method, path, body, headers)
@@ -392,6 +438,7 @@ def test_bad_requests_are_answered_in_json_and_logged_in_one_line_each(folder):
     assert len(logged) == len(asked)
     for line, (method, path, _, _, code, why) in zip(logged, asked):
         assert line.startswith(f"baxterface studio: {method} {path}: {code} ") and why in line
+        assert len(line) < 400  # a huge bad command is not written to the log whole
 
 
 def test_sigterm_stops_the_studio_as_ctrl_c_does_and_says_what_was_not_saved(folder):
@@ -459,3 +506,32 @@ def test_the_docs_show_the_session_export_as_written():
     shown = doc.split("```\n# baxterface studio session")[1].split("```")[0].splitlines()[1:]
     written = session.text_of(session.presses, "session-20261122-140318.face").splitlines()[1:]
     assert shown == written
+
+
+def test_scripts_are_parsed_one_at_a_time_and_a_long_queue_is_refused():
+    import asyncio
+    import threading
+
+    from baxterface_cli.studio.api import HEAVY_WAITING, Busy, Heavy
+
+    heavy, release = Heavy(), threading.Event()
+    running, most = [0], [0]
+
+    def work(n):
+        running[0] += 1
+        most[0] = max(most[0], running[0])
+        release.wait(30)
+        running[0] -= 1
+        return n
+
+    async def flood():
+        jobs = [asyncio.ensure_future(heavy.run(work, n)) for n in range(HEAVY_WAITING)]
+        while heavy.waiting < HEAVY_WAITING:
+            await asyncio.sleep(0.01)
+        with pytest.raises(Busy, match="busy: 16 scripts are waiting"):
+            await heavy.run(work, -1)
+        release.set()
+        return await asyncio.gather(*jobs)
+
+    assert asyncio.run(flood()) == list(range(HEAVY_WAITING))
+    assert most[0] == 1  # never two at once: each holds the GIL the frame pump needs
