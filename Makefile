@@ -24,8 +24,10 @@ PLAY_EXTRAS := speech
 STUDIO_EXTRAS := speech,studio
 EXTRAS := test,video,bag,speech,camera,studio
 PIP_QUIET := --quiet --disable-pip-version-check
+# pytest workers for each Python suite (they run beside each other and the ROS suite)
+JOBS ?= 2
 
-.PHONY: play test test-python test-ros lint format golden theme pictures bench system system-play venv \
+.PHONY: play test test-python test-python38 test-ros lint format golden theme pictures bench system system-play venv \
 	venv-play venv-studio venv38 venv-ros ros clean editor studio
 
 # `venv` is the full one the tests, lint and benchmarks use; play and studio make smaller ones first.
@@ -88,14 +90,19 @@ format: venv
 	$(BIN)/ruff check --fix .
 	$(BIN)/ruff format .
 
-# The ROS tests mostly wait on a real master and real time (under one core busy), so they run
-# beside the two Python suites rather than after them; each one's output is printed whole when it ends.
-test: lint system venv venv38 venv-ros
-	$(MAKE) --no-print-directory -j2 --output-sync=target test-python test-ros
+# From nothing: the three environments install side by side (mostly waiting on the registry),
+# then the three suites run side by side, each printed whole when it ends. The ROS tests mostly
+# wait on a real master and real time; the two Python suites spread over the cores (xdist).
+test: system
+	$(MAKE) --no-print-directory -j3 venv venv38 venv-ros
+	$(MAKE) --no-print-directory lint
+	$(MAKE) --no-print-directory -j3 --output-sync=target test-python test-python38 test-ros
 
-test-python: venv venv38
-	$(BIN)/python -m pytest
-	$(VENV38)/bin/python -m pytest -m "not slow and not ros" -p no:cacheprovider
+test-python: venv
+	$(BIN)/python -m pytest -n $(JOBS) --dist loadgroup
+
+test-python38: venv38
+	$(VENV38)/bin/python -m pytest -n $(JOBS) --dist loadgroup -m "not slow and not ros" -p no:cacheprovider
 
 test-ros: venv-ros
 	$(VENV_ROS)/bin/python -m pytest -m ros -p no:cacheprovider -W ignore::DeprecationWarning

@@ -340,12 +340,14 @@ def test_sizes_that_would_exhaust_memory_are_refused(tmp_path, size, message):
 
 @pytest.fixture
 def small_disk(tmp_path):
-    """A file system of 1 MB of its own (tmpfs), for a render to fill."""
+    """A file system of 200 KB of its own (tmpfs), for a render to fill."""
     mount = tmp_path / "small"
     mount.mkdir()
     if os.geteuid() != 0:
         pytest.skip("mounting a small file system needs root")
-    done = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=1m", "tmpfs", str(mount)], capture_output=True)
+    done = subprocess.run(
+        ["mount", "-t", "tmpfs", "-o", "size=200k", "tmpfs", str(mount)], capture_output=True
+    )
     if done.returncode != 0:
         pytest.skip(f"cannot mount a tmpfs here: {done.stderr.decode().strip()}")
     yield mount
@@ -354,8 +356,8 @@ def small_disk(tmp_path):
 
 @pytest.mark.parametrize("target", ["x.gif", "frames/", "x.mp4", "x.apng", "x.bag", "x.webp", "x.wav"])
 def test_a_full_disk_is_one_line_and_leaves_nothing(small_disk, target):
-    text = 'repeat 20 { look 40 -20 in 1s; look -40 20 in 1s }\nsay "' + "la " * 300 + '"'
-    run = baxterface("render", "-e", text, "--out", f"{small_disk}/{target}", "--size", "1024x600")
+    text = 'repeat 10 { look 40 -20 in 1s; look -40 20 in 1s }\nsay "' + "la " * 20 + '"'
+    run = baxterface("render", "-e", text, "--out", f"{small_disk}/{target}")
     assert run.code == 1
     assert (
         run.err.strip() == f"baxterface render: cannot write {small_disk}/{target}: No space left on device"

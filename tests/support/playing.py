@@ -20,8 +20,15 @@ def spawn_play(*args, env=None):
         # The terminal echoes a Ctrl-C where it lands, even inside a half-written block character.
         codec_errors="replace",
         timeout=30,
-        env=env or dict(os.environ, TERM="xterm-256color"),
+        env=env or terminal_env(),
     )
+
+
+def terminal_env():
+    """This environment for a program in a pseudo-terminal: it must measure the terminal itself,
+    not take COLUMNS and LINES from whoever ran the tests (pytest-xdist's workers set them)."""
+    env = {k: v for k, v in os.environ.items() if k not in ("COLUMNS", "LINES")}
+    return dict(env, TERM="xterm-256color")
 
 
 class FakeClock:
