@@ -90,22 +90,21 @@ format: venv
 	$(BIN)/ruff check --fix .
 	$(BIN)/ruff format .
 
-# From nothing: the three environments install side by side (mostly waiting on the registry),
-# then the three suites run side by side, each printed whole when it ends. The ROS tests mostly
-# wait on a real master and real time; the two Python suites spread over the cores (xdist).
+# From nothing: each suite starts as soon as its own environment is installed (the three install
+# side by side, mostly waiting on the registry), and the three run side by side, each printed
+# whole when it ends: the 3.11 suite (after the lint), the 3.8 one and the ROS one, each spread
+# over the cores by pytest-xdist.
 test: system
-	$(MAKE) --no-print-directory -j3 venv venv38 venv-ros
-	$(MAKE) --no-print-directory lint
 	$(MAKE) --no-print-directory -j3 --output-sync=target test-python test-python38 test-ros
 
-test-python: venv
+test-python: lint
 	$(BIN)/python -m pytest -n $(JOBS) --dist loadgroup
 
 test-python38: venv38
 	$(VENV38)/bin/python -m pytest -n $(JOBS) --dist loadgroup -m "not slow and not ros" -p no:cacheprovider
 
 test-ros: venv-ros
-	$(VENV_ROS)/bin/python -m pytest -m ros -p no:cacheprovider -W ignore::DeprecationWarning
+	$(VENV_ROS)/bin/python -m pytest -n $(JOBS) -m ros -p no:cacheprovider -W ignore::DeprecationWarning
 
 # Rewrite the golden files (error output, face images) after a deliberate
 # change; review them with `git diff` before committing.
