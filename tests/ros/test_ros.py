@@ -832,13 +832,15 @@ def test_a_flood_of_good_bad_and_huge_commands_never_stops_the_frames(ros, node)
     screen.wait_for(timeout=15)
     before = rss_mb(proc.pid)
     start = len(screen.messages)
-    flood = [sys.executable, str(ROOT / "tests" / "support" / "flooder.py"), "3"]
+    seconds = 6.0
+    flood = [sys.executable, str(ROOT / "tests" / "support" / "flooder.py"), str(seconds)]
     subprocess.run(flood, env=ros, check=True, timeout=120, stdout=subprocess.DEVNULL)
     times = [t for t, _ in screen.messages[start:]]
     gaps = [b - a for a, b in zip(times, times[1:])]
-    # Frames kept coming all along (before, 200 messages stopped them for 241 s).
-    # How short the gaps are is a speed, measured by bench/bench_node.py.
-    assert len(times) > 30 and max(gaps) < 1.0, f"largest gap between frames {max(gaps):.3f} s"
+    # Frames kept coming all along the flood, never stopping for a third of it (before, 200
+    # messages stopped them for 241 s). How short the gaps are is a speed, which depends on
+    # what else the machine runs: bench/bench_node.py measures it alone.
+    assert len(times) > 30 and max(gaps) < seconds / 3, f"largest gap between frames {max(gaps):.3f} s"
     assert proc.poll() is None
     assert rss_mb(proc.pid) < before + 400  # bounded: the waiting room is small
     strict_json(state.messages[-1][1].data)
