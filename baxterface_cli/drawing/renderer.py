@@ -17,16 +17,18 @@ from __future__ import annotations
 
 import math
 from collections import OrderedDict
-from typing import Dict, List, NamedTuple, Optional, Tuple
+from typing import Any, List, NamedTuple, Optional, Tuple
 
 import numpy as np
 
 from ..core.face_state import FaceState, Parts
 from ..core.geometry import clamp_to_ellipse
+from ..core.presets import expression_of
 from .compositing import Rect, Sprite, div255, div255_inplace, finish, intersect, lay
 from .theme_fitting import ThemeLayers
 
 PARTS_KEPT = 12  # part combinations kept: every emotion's, with room to spare
+SKINS_KEPT = 8  # skins kept, each a whole screen: every named one, and some between
 
 
 class Pose(NamedTuple):
@@ -34,17 +36,29 @@ class Pose(NamedTuple):
 
     eye_dx: int
     eye_dy: int
-    lid_dy: int
+    lid_dy: Tuple[int, ...]  # one per lid sprite of the theme, as layers.lids
 
 
 def pose(layers: ThemeLayers, state: FaceState) -> Pose:
-    """Screen offsets for a state: eyes clamped to their ellipse, lids to 0..1."""
+    """Screen offsets for a state: eyes clamped to their ellipse, each lid to 0..1."""
     # A state is plain data anyone can build: a number that is not finite
     # draws as the rest position rather than failing.
     x, y = clamp_to_ellipse(*(v if math.isfinite(v) else 0.0 for v in (state.eye_x, state.eye_y)))
-    openness = min(1.0, max(0.0, state.eyelids)) if math.isfinite(state.eyelids) else 1.0
+    openness = _unit(state.eyelids)
+    shape = state.expression
+    share = (1.0, 1.0) if shape is None else (_unit(shape.lid_right), _unit(shape.lid_left))
+    middle = layers.size[0] / 2
     s = layers.scale
-    return Pose(_round(x * s), _round(y * s), -_round(layers.lid_travel * openness))
+    # The lid left of the screen's middle is the robot's right eye's.
+    lids = tuple(
+        -_round(layers.lid_travel * openness * share[0 if lid.x + lid.width / 2 < middle else 1])
+        for lid in layers.lids
+    )
+    return Pose(_round(x * s), _round(y * s), lids)
+
+
+def _unit(v: float) -> float:
+    return min(1.0, max(0.0, v)) if math.isfinite(v) else 1.0
 
 
 def _round(v: float) -> int:
@@ -111,14 +125,17 @@ def bottom_stack(layers: ThemeLayers, at: Pose, rect: Rect) -> np.ndarray:
     under = layers.background[y0:y1, x0:x1].astype(np.uint16)
     for eye in layers.eyes:
         lay(under, rect, eye, at.eye_dx, at.eye_dy)
-    for lid in layers.lids:
-        lay(under, rect, lid, 0, at.lid_dy)
+    for lid, dy in zip(layers.lids, at.lid_dy):
+        lay(under, rect, lid, 0, dy)
     return under
 
 
 def compose(layers: ThemeLayers, state: FaceState) -> np.ndarray:
     """The plain full recomposite: every layer, every pixel, nothing kept."""
     full = (0, 0) + layers.size
+    if layers.drawn is not None:  # a drawn face morphs its numbers: no frames to crossfade
+        top = top_stack(layers, layers.drawn.keys(expression_of(state)))
+        return finish(top.prem, top.inv, bottom_stack(layers, pose(layers, state), full))
 
     def frame(parts: Parts) -> np.ndarray:
         top = top_stack(layers, parts)  # every layer from scratch
@@ -204,7 +221,7 @@ class Renderer:
     def __init__(self, layers: ThemeLayers) -> None:
         self.layers = layers
         self._canvases: OrderedDict[Parts, _Canvas] = OrderedDict()
-        self._skins: Dict[int, Tuple[TopStack, List[Rect]]] = {}
+        self._skins: OrderedDict[Any, Tuple[TopStack, List[Rect]]] = OrderedDict()
         self._mix: Optional[np.ndarray] = None
 
     @property
@@ -213,6 +230,8 @@ class Renderer:
 
     def render(self, state: FaceState) -> np.ndarray:
         at = pose(self.layers, state)
+        if self.layers.drawn is not None:
+            return self._draw(self.layers.drawn.keys(expression_of(state)), at)
         if state.fade_from is None or state.fade >= 1.0:
             return self._draw(state.parts, at)
         if state.fade <= 0.0:
@@ -245,6 +264,9 @@ class Renderer:
             if parts.skin not in self._skins:
                 skin = skin_stack(self.layers, parts.skin)
                 self._skins[parts.skin] = (skin, socket_boxes(skin.inv))
+                while len(self._skins) > SKINS_KEPT:
+                    self._skins.popitem(last=False)
+            self._skins.move_to_end(parts.skin)
             canvas = _Canvas(self.layers, parts, at, *self._skins[parts.skin])
             self._canvases[parts] = canvas
             while len(self._canvases) > PARTS_KEPT:
@@ -273,9 +295,9 @@ class Renderer:
             for eye in self.layers.eyes:
                 a, b = eye.rect(old.eye_dx, old.eye_dy), eye.rect(new.eye_dx, new.eye_dy)
                 rects.append((min(a[0], b[0]), min(a[1], b[1]), max(a[2], b[2]), max(a[3], b[3])))
-        if old.lid_dy != new.lid_dy:
-            low, high = sorted((old.lid_dy, new.lid_dy))
-            for lid, (a, b) in zip(self.layers.lids, self.layers.lid_bands):
+        for lid, (a, b), was, now in zip(self.layers.lids, self.layers.lid_bands, old.lid_dy, new.lid_dy):
+            if was != now:
+                low, high = sorted((was, now))
                 # Rows inside the lid's band of identical rows, at both offsets,
                 # show the same colours: only the two stretches outside change.
                 top, bottom = lid.y + high + a, lid.y + low + b

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from typing import Dict, List, NamedTuple, Tuple
+from typing import TYPE_CHECKING, Dict, List, NamedTuple, Optional, Tuple
 
 import numpy as np
 from PIL import Image
@@ -11,6 +11,9 @@ from PIL import Image
 from . import artwork
 from .compositing import Sprite, split_columns, sprite_from_rgba
 from .theme_manifest import FULL_SCREEN_KINDS, OPTIONAL, Key, Placed, Size
+
+if TYPE_CHECKING:
+    from .drawn_parts import DrawnParts
 
 
 class ThemeLayers(NamedTuple):
@@ -26,6 +29,9 @@ class ThemeLayers(NamedTuple):
     skins: Dict[int, Sprite]
     mouths: Dict[str, Sprite]
     brows: Dict[str, Sprite]
+    # The default theme draws its parts from the expression's numbers (then skins, mouths and
+    # brows are its PartBooks); a theme of pictures has None here.
+    drawn: Optional[DrawnParts] = None
 
 
 def face_scale(size: Size) -> float:

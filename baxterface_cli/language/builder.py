@@ -15,13 +15,27 @@ from typing import Any, Callable, Dict, List, Optional, Tuple
 from lark import Lark, Token, Transformer
 
 from ..core.easing import EASINGS
+from ..core.expression import CONTROLS
 from ..core.geometry import clamp_to_ellipse, inside_ellipse
-from ..core.tables import BROWS, DIRECTIONS, HEAD_PAN_LIMIT, LIMITS, MOUTHS, SKINS, UNITS, FollowTarget
+from ..core.tables import (
+    BROWS,
+    DIRECTIONS,
+    EMOTIONS,
+    HEAD_PAN_LIMIT,
+    LIMITS,
+    MOUTHS,
+    SKINS,
+    UNITS,
+    FollowTarget,
+)
 from ..core.voices import RATES, known_voice, voice_names
 from ..resources import resource
 from . import syntax_tree as n
-from .diagnostics import Diagnostic, Hints, one_of
-from .vocabulary import BARE_WORDS, LEGACY_USAGE, LEGACY_WORDS
+from .diagnostics import Diagnostic, Hints, one_of, shortened
+from .vocabulary import BARE_WORDS, KEYWORDS, LEGACY_USAGE, LEGACY_WORDS
+
+# The emotions as a script writes them (`wake_up`), each with its table name ("wake up").
+EMOTION_WORDS: Dict[str, str] = {name.replace(" ", "_"): name for name in EMOTIONS}
 
 _ESCAPE = re.compile(r"\\(.)", re.S)
 _NUMBER = re.compile(r"([-+]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+))(.*)", re.S)
@@ -246,29 +260,109 @@ class _Builder(Transformer):
         angle = self._angle(angle_token, at)
         return n.Wobble(angle, rest[0] if rest else n.Timing(), pos=self._pos(at))
 
-    def skin(self, children: List[Token]) -> n.Skin:
-        at, index = children
-        return n.Skin(self._skin(index), pos=self._pos(at))
+    def skin(self, children: List[Any]) -> Any:
+        if len(children) == 2:
+            at, index = children
+            return n.Skin(self._skin(index), pos=self._pos(at))
+        return self._adjust("skin", children)
 
     def _skin(self, token: Token) -> int:
         return self._whole(token, "index", "a skin", min(SKINS), max(SKINS))
 
-    def mouth(self, children: List[Token]) -> n.Mouth:
-        at, name = children
-        return n.Mouth(self._known(name, MOUTHS, "mouth"), pos=self._pos(at))
+    def mouth(self, children: List[Any]) -> Any:
+        if len(children) == 2:
+            at, name = children
+            named = "smile" if self._wants_number("mouth", name) else self._known(name, MOUTHS, "mouth")
+            return n.Mouth(named, pos=self._pos(at))
+        return self._adjust("mouth", children)
 
-    def brows(self, children: List[Token]) -> n.Brows:
-        at, name = children
-        return n.Brows(self._known(name, BROWS, "brows"), pos=self._pos(at))
+    def brows(self, children: List[Any]) -> Any:
+        at, *rest = children
+        side = rest.pop(0) if isinstance(rest[0], str) and not isinstance(rest[0], Token) else ""
+        if len(rest) == 1:
+            named = "normal" if self._wants_number("brows", rest[0]) else self._known(rest[0], BROWS, "brows")
+            return n.Brows(named, side, pos=self._pos(at))
+        return self._adjust("brows", [at, *rest], side)
 
-    def eyelids(self, children: List[Any]) -> n.Eyelids:
-        at, amount, *rest = children
+    def eyelids(self, children: List[Any]) -> Any:
+        at, *rest = children
+        if not isinstance(rest[0], Token):  # a side: that eye's share of the lids' openness
+            return self._adjust("eyelids", [at, None, *rest[1:]], rest[0])
+        amount, *rest = rest
         openness = self._number(amount, "openness", "eyelid openness")
         if openness is None:
             openness = 1.0
         elif not 0.0 <= openness <= 1.0:
             self._error(amount, f"eyelid openness must be from 0 (closed) to 1 (open), not {amount}")
         return n.Eyelids(openness, rest[0] if rest else n.Timing(), pos=self._pos(at))
+
+    def _wants_number(self, part: str, name: Token) -> bool:
+        """A control named without its number (`mouth curve`): said so, not as an unknown part."""
+        control = str(name).lower()
+        if (part, control) not in CONTROLS or control in MOUTHS:
+            return False
+        spec = CONTROLS[(part, control)]
+        self._error(name, f"'{part} {control}' takes a number from {spec.low:g} to {spec.high:g}")
+        return True
+
+    def _adjust(self, part: str, children: List[Any], side: str = "") -> n.Adjust:
+        """`mouth curve 0.5 in 1s`: one number of the expression, checked against CONTROLS."""
+        at, name, amount, *rest = children
+        controls = [c for p, c in CONTROLS if p == part]
+        control = "" if name is None else self._known(name, controls, f"{part} control")
+        spec = CONTROLS.get((part, control))
+        value = self._number(amount, "openness", f"{part} {control}".strip())
+        if spec is not None and value is not None and not spec.low <= value <= spec.high:
+            what = f"{part} {control}".strip()
+            self._error(amount, f"{what} must be from {spec.low:g} to {spec.high:g}, not {amount}")
+        if spec is not None and side not in spec.sides:
+            self._error(at, f"{part} {control} takes no side: it is one number for the whole face")
+        return n.Adjust(part, control, value or 0.0, side, rest[0] if rest else n.Timing(), pos=self._pos(at))
+
+    def side(self, children: List[Token]) -> str:
+        return str(children[0]).lower()
+
+    def feeling(self, children: List[Any]) -> Any:
+        timing = children.pop() if isinstance(children[-1], n.Timing) else None
+        at = children[0]
+        weights = []
+        amounts = children[1::2] or [None]  # `sad in 1.5s`: full strength
+        for name, amount in zip(children[::2], amounts):
+            word = str(name).lower()
+            if word in EMOTION_WORDS:
+                emotion = EMOTION_WORDS[word]
+            elif name is at:  # `wiat 2` is more likely a mistyped command than an emotion
+                known = list(EMOTION_WORDS) + list(BARE_WORDS) + list(KEYWORDS)
+                self._error(name, f"unknown command '{shortened(word)}'{self.hints(word, known)}")
+                emotion = "default"
+            else:
+                emotion = EMOTION_WORDS.get(self._known(name, EMOTION_WORDS, "emotion"), "default")
+            weight = 1.0 if amount is None else self._number(amount, "openness", "an intensity")
+            if word in EMOTION_WORDS and weight is not None and not 0.0 <= weight <= 1.0:
+                self._error(amount, f"an intensity must be from 0 to 1, not {amount}")
+            weights.append((emotion, weight or 0.0))
+        if len(weights) > 1 and sum(w for _, w in weights) > 1.0 + 1e-9:
+            self._error(children[1], "the intensities of a blend add up to at most 1")
+        if timing is None and len(weights) == 1 and weights[0][1] in (0.0, 1.0):
+            # `happy 1` is `happy`, and `happy 0` the face with no emotion: `default`.
+            return n.Emotion(weights[0][0] if weights[0][1] == 1.0 else "default", pos=self._pos(at))
+        return n.Feeling(tuple(weights), timing or n.Timing(), pos=self._pos(at))
+
+    morph = timing
+
+    def mood(self, children: List[Any]) -> n.Mood:
+        at, valence_token, arousal_token, *rest = children
+        numbers = []
+        for token, what in ((valence_token, "valence"), (arousal_token, "arousal")):
+            value = self._number(token, "count", what)
+            if value is not None and not -1.0 <= value <= 1.0:
+                self._error(token, f"{what} must be from -1 to 1, not {token}")
+            numbers.append(value or 0.0)
+        return n.Mood(numbers[0], numbers[1], rest[0] if rest else n.Timing(), pos=self._pos(at))
+
+    def wink(self, children: List[Any]) -> n.Wink:
+        at, side = children
+        return n.Wink(side, pos=self._pos(at))
 
     def follow(self, children: List[Any]) -> n.Follow:
         at, target, *rest = children

@@ -69,4 +69,6 @@ KEYWORDS: Tuple[str, ...] = (
     "together",
     "define",
     "say",
+    "mood",
+    "wink",
 )
