@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 from typing import Dict, Iterable, Tuple
 
-from .expression import BROW_FIELDS, MOUTH_FIELDS, NEUTRAL, Expression
+from .expression import BROW_FIELDS, MOUTH_FIELDS, NEUTRAL, SKIN_FIELDS, Expression
 from .face_state import FaceState, Parts
 from .tables import BROWS, EMOTIONS, MOUTHS, VISEMES
 
@@ -140,6 +140,14 @@ def _brows(name: str) -> Dict[str, float]:
 BROW_PRESETS: Dict[str, Dict[str, float]] = {name: _brows(name) for name in BROWS}
 
 SLEEPING_SKIN = 5
+
+# The expression's fields that each named part sets, and all an emotion sets (not the lids).
+PART_FIELDS: Dict[str, Tuple[str, ...]] = {
+    "skin": SKIN_FIELDS,
+    "mouth": MOUTH_FIELDS,
+    "brows": BROW_FIELDS["left"] + BROW_FIELDS["right"],
+}
+FACE_FIELDS = PART_FIELDS["skin"] + PART_FIELDS["mouth"] + PART_FIELDS["brows"]
 
 
 def skin_numbers(index: int) -> Dict[str, float]:

@@ -13,10 +13,19 @@ from __future__ import annotations
 import random
 from typing import TYPE_CHECKING, Any, Callable, Dict, List, NamedTuple, Optional, Sequence, Tuple
 
-from ..core.expression import BROW_FIELDS, CONTROLS, MOUTH_FIELDS, SKIN_FIELDS, Expression, with_fields
+from ..core.expression import BROW_FIELDS, CONTROLS, Expression, with_fields
 from ..core.face_state import FaceState, Parts
 from ..core.geometry import clamp_pan, clamp_to_ellipse, dynamic_look, to_radians
-from ..core.presets import blend, blend_lids, expression_of, from_parts, mood_weights, nearest_parts
+from ..core.presets import (
+    FACE_FIELDS,
+    PART_FIELDS,
+    blend,
+    blend_lids,
+    expression_of,
+    from_parts,
+    mood_weights,
+    nearest_parts,
+)
 from ..core.tables import EMOTIONS, HEAD_SPEED_RATIO, HEAD_TOP_SPEED, TIMING
 from ..language import syntax_tree as n
 from ..language.durations import move_seconds, statement_seconds
@@ -138,9 +147,9 @@ class _Compiler:
 
         self.later(t, lids_first)
         if duration is None:
-            self.change_shape(t + lids, target, _FACE_FIELDS)
+            self.change_shape(t + lids, target, FACE_FIELDS)
         else:
-            self.change_shape(t, target, _FACE_FIELDS, duration, easing)
+            self.change_shape(t, target, FACE_FIELDS, duration, easing)
 
     def change_shape(
         self,
@@ -247,7 +256,7 @@ class _Compiler:
             current = self.parts[-1].parts if self.parts else self.start.parts
             new = current._replace(**changed)
             self.parts.append(PartsChange(at, new, self.crossfade))
-            fields = [f for part in changed for f in _PART_FIELDS[part]]
+            fields = [f for part in changed for f in PART_FIELDS[part]]
             goal = with_fields(self.shape.value(at), from_parts(new), fields)
             self.shape.move(at, self.crossfade, goal, fields=fields)
 
@@ -300,15 +309,6 @@ class _Compiler:
         self.cue(end, fx.Exit())
         self.exit_at = end
         return end
-
-
-# The expression's fields that each named part sets.
-_PART_FIELDS = {
-    "skin": SKIN_FIELDS,
-    "mouth": MOUTH_FIELDS,
-    "brows": BROW_FIELDS["left"] + BROW_FIELDS["right"],
-}
-_FACE_FIELDS = SKIN_FIELDS + MOUTH_FIELDS + _PART_FIELDS["brows"]  # what an emotion sets: not the lids
 
 
 # Each statement's handler, by its syntax-tree class: an explicit table, so a new statement is
@@ -402,7 +402,8 @@ def describe(s: Any) -> str:
 
     def timed(s: Any) -> str:
         easing = s.timing.easing
-        return f" in {move_seconds(s):g}s" + ("" if easing == "linear" else f" {easing}")
+        seconds = statement_seconds(s) if isinstance(s, n.Feeling) else move_seconds(s)
+        return f" in {seconds:g}s" + ("" if easing == "linear" else f" {easing}")
 
     if isinstance(s, n.Emotion):
         return s.name
@@ -417,8 +418,23 @@ def describe(s: Any) -> str:
         return f"wait {s.duration:g}s"
     if isinstance(s, n.Skin):
         return f"skin {s.index}"
-    if isinstance(s, (n.Mouth, n.Brows)):
-        return f"{type(s).__name__.lower()} {s.name}"
+    if isinstance(s, n.Mouth):
+        return f"mouth {s.name}"
+    if isinstance(s, n.Brows):
+        return f"brows {s.side + ' ' if s.side else ''}{s.name}"
+    if isinstance(s, n.Feeling):
+        blend = " + ".join(
+            name.replace(" ", "_") + ("" if len(s.weights) == 1 and weight == 1 else f" {weight:g}")
+            for name, weight in s.weights
+        )
+        return blend + (timed(s) if s.timing.duration is not None else "")
+    if isinstance(s, n.Mood):
+        return f"mood {s.valence:g} {s.arousal:g}{timed(s)}"
+    if isinstance(s, n.Wink):
+        return f"wink {s.side}"
+    if isinstance(s, n.Adjust):
+        words = " ".join(w for w in (s.part, s.side, s.control) if w)
+        return f"{words} {s.value:g}{timed(s)}"
     if isinstance(s, n.Say):
         return (
             f"say {fx.quoted(s.text)}"
