@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
-from typing import Any, Dict, NamedTuple, Optional
+from typing import Any, Dict, NamedTuple, Optional, Tuple
 
 from .expression import Expression
 
@@ -41,6 +41,7 @@ class FaceState:
     # The shape the default theme draws (core/expression.py). None: the named parts' presets,
     # crossfaded as `fade` says; themes of pictures show the named parts either way.
     expression: Optional[Expression] = None
+    mood: Tuple[float, float] = (0.0, 0.0)  # (valence, arousal) of the last `mood`: the idle life's pace
 
     @property
     def parts(self) -> Parts:
@@ -67,4 +68,5 @@ class FaceState:
             "fade": round(self.fade, 4),
             "emotion": self.emotion,
             "expression": None if self.expression is None else self.expression.as_record(),
+            "mood": [round(v, 4) for v in self.mood],
         }

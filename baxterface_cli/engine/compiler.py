@@ -59,6 +59,7 @@ class _Compiler:
         self.lids = Track(start.eyelids)
         self.head = Track(start.head_pan)
         self.shape = ShapeTracks(expression_of(start))
+        self.moods: List[Tuple[float, float, float]] = []
         self.parts: List[PartsChange] = []
         self.emotions: List[Tuple[float, str]] = []
         self.cues: List[Cue] = []
@@ -121,6 +122,7 @@ class _Compiler:
     def do_mood(self, s: n.Mood, t: float) -> float:
         duration = move_seconds(s)
         weights = mood_weights(s.valence, s.arousal) or (("default", 1.0),)
+        self.later(t, lambda at: self.moods.append((at, s.valence, s.arousal)))
         self.express(weights, duration, s.timing.easing, t, duration)
         return t + duration
 
@@ -387,6 +389,7 @@ def compile_script(
         start or FaceState(),
         compiler.speech,
         compiler.shape,
+        sorted(compiler.moods),
     )
 
 

@@ -84,14 +84,22 @@ class Timeline:
     initial: FaceState
     speech: List[Said] = field(default_factory=list)  # in time order
     shape: Optional[ShapeTracks] = None  # the expression; None: the named parts' presets
+    moods: List[Tuple[float, float, float]] = field(default_factory=list)  # (at, valence, arousal)
     _part_times: List[float] = field(default_factory=list, repr=False)
     _emotion_times: List[float] = field(default_factory=list, repr=False)
     _speech_times: List[float] = field(default_factory=list, repr=False)
+    _mood_times: List[float] = field(default_factory=list, repr=False)
 
     def __post_init__(self) -> None:
         self._part_times = [c.at for c in self.parts]
         self._emotion_times = [at for at, _ in self.emotions]
         self._speech_times = [said.at for said in self.speech]
+        self._mood_times = [at for at, _, _ in self.moods]
+
+    def mood_at(self, t: float) -> Tuple[float, float]:
+        """(valence, arousal) the script's last `mood` asked for by t; the start's before any."""
+        i = bisect.bisect_right(self._mood_times, t) - 1
+        return self.initial.mood if i < 0 else (self.moods[i][1], self.moods[i][2])
 
     def sample(self, t: float) -> FaceState:
         """The face at time t (seconds from the start): pure, the same every call."""
@@ -121,6 +129,7 @@ class Timeline:
             head_pan=self.head.value(t),
             emotion=self.emotions[i][1] if i >= 0 else self.initial.emotion,
             expression=None if self.shape is None else self.shape.value(t),
+            mood=self.mood_at(t),
         )
         i = bisect.bisect_right(self._part_times, t) - 1
         if i < 0:

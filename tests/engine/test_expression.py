@@ -153,3 +153,28 @@ def test_speech_moves_the_drawn_mouth_through_its_shapes(monkeypatch):
         speech_mouth(face, "closed").mouth_open < between.mouth_open < speech_mouth(face, "open").mouth_open
     )
     assert tl.sample(start + 0.7).expression.mouth_curve == tl.sample(start - 0.01).expression.mouth_curve
+
+
+def idle_life(text: str, seconds: float = 120.0):
+    from baxterface_cli.engine.animation import Idle
+
+    tl = timeline(text + "; wait 200s")
+    return Idle(tl, seed=3, until=seconds)
+
+
+def test_arousal_quickens_the_blinks_and_calm_slows_them():
+    calm, usual, alert = (len(idle_life(f"mood 0 {a} in 0.1s").blinks) for a in (-1, 0, 1))
+    assert calm < usual < alert
+    assert len(idle_life("happy").blinks) == usual  # an emotion alone leaves the pace as it was
+
+
+def test_a_low_valence_now_and_then_looks_down_and_away():
+    downcast = [d for d in idle_life("mood -1 0 in 0.1s").darts if d.dy >= 40]
+    assert downcast and all(abs(d.dx) >= 15 for d in downcast)
+    assert not [d for d in idle_life("mood 1 0 in 0.1s").darts if d.dy >= 40]
+
+
+def test_the_mood_carries_into_the_next_script():
+    end = timeline("mood -0.5 0.8 in 0.2s").sample(1.0)
+    assert end.mood == (-0.5, 0.8)
+    assert compile_script(parse("blink"), start=end).mood_at(0.5) == (-0.5, 0.8)
