@@ -172,7 +172,8 @@ class Face:
         shown = blend(presets)._replace(
             lid_left=self.expression.lid_left, lid_right=self.expression.lid_right
         )
-        self.state = self.state.replace(eyelids=blend_lids(tuple(named)))
+        label = max(named, key=lambda w: w[1])[0] if named else "default"
+        self.state = self.state.replace(eyelids=blend_lids(tuple(named)), emotion=label)
         self.set_expression(shown)
 
     def set_emotion_intensity(self, name: str, intensity: float, variant: int = 0) -> None:
@@ -186,6 +187,7 @@ class Face:
             if not -1.0 <= _finite(value, what) <= 1.0:
                 raise ValueError(f"{what} must be from -1 to 1, not {value}")
         self.blend(dict(mood_weights(float(valence), float(arousal))) or {"default": 1.0}, variant)
+        self.state = self.state.replace(mood=(float(valence), float(arousal)))
 
     def wink(self, side: Optional[str] = "left") -> None:
         """Shut one eye, the robot's `left` (the viewer's right) or `right`; None opens both."""

@@ -228,6 +228,20 @@ class Renderer:
     def size(self) -> Tuple[int, int]:
         return self.layers.size
 
+    def frame_key(self, state: FaceState) -> Any:
+        """A value equal for two states exactly when their frames are the same: a sink that
+        sends only changed frames compares these instead of drawing."""
+        at = pose(self.layers, state)
+        if self.layers.drawn is not None:
+            return (at, self.layers.drawn.keys(expression_of(state)))
+        fading = state.fade_from is not None and state.fade < 1.0
+        return (
+            at,
+            state.parts,
+            state.fade_from if fading else None,
+            int(state.fade * 255 + 0.5) if fading else 255,
+        )
+
     def render(self, state: FaceState) -> np.ndarray:
         at = pose(self.layers, state)
         if self.layers.drawn is not None:
