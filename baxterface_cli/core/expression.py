@@ -41,6 +41,7 @@ class Expression(NamedTuple):
     mouth_teeth: float = 0.0  # the upper teeth showing, down to 40 pixels below the corners
     mouth_clench: float = 0.0  # 1 a clenched grimace: all teeth, a line between the rows
     mouth_tongue: float = 0.0
+    mouth_press: float = 0.0  # lips pressed together (p, b, m): creased corners, a mark under them
     tint: float = 2.0  # the skin's colour: 0 pale .. 4 red, as `skin 0` .. `skin 4`
     cheeks: float = 1.0  # blush: 1 as drawn, 0 none
     sleepy: float = 0.0  # 1 the sleeping skin, with its "Zzz"
@@ -111,6 +112,7 @@ CONTROLS: Dict[Tuple[str, str], Control] = {
     ("mouth", "teeth"): Control(_one("mouth_teeth"), 0.0, 1.0, "the upper teeth showing"),
     ("mouth", "clench"): Control(_one("mouth_clench"), 0.0, 1.0, "teeth clenched, a line between the rows"),
     ("mouth", "tongue"): Control(_one("mouth_tongue"), 0.0, 1.2, "the tongue's size"),
+    ("mouth", "press"): Control(_one("mouth_press"), 0.0, 1.0, "lips pressed together, as for p, b, m"),
     ("skin", "tint"): Control(_one("tint"), 0.0, 4.0, "0 pale .. 4 red, as skin 0 .. skin 4"),
     ("skin", "cheeks"): Control(_one("cheeks"), 0.0, 3.0, "blush; 1 as drawn"),
     ("skin", "sleepy"): Control(_one("sleepy"), 0.0, 1.0, "toward the sleeping skin and its Zzz"),

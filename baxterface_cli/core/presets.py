@@ -50,7 +50,12 @@ MOUTH_PRESETS: Dict[str, Dict[str, float]] = {
 
 # The speech shapes (tables.VISEMES), as points of the same mouth: speech moves between them.
 SPEECH_PRESETS: Dict[str, Dict[str, float]] = {
-    "closed": {"mouth_curve": 3 / 44, "mouth_raise": -32 * 3 / 44 / 20, "mouth_width": 88 / 92},
+    "closed": {
+        "mouth_curve": 3 / 44,
+        "mouth_raise": -32 * 3 / 44 / 20,
+        "mouth_width": 88 / 92,
+        "mouth_press": 1.0,
+    },
     "slight": {"mouth_lift": 0.14, "mouth_open": 0.14},
     "fv": {
         "mouth_raise": 0.2,

@@ -37,6 +37,7 @@ class MouthGeometry(NamedTuple):
     teeth: float  # the upper teeth's lower edge, below the corners (0: no teeth)
     clench: float
     tongue: float
+    press: float
 
     @property
     def opening(self) -> float:
@@ -69,6 +70,7 @@ def geometry(e: Expression) -> MouthGeometry:
         teeth=40 * max(0.0, e.mouth_teeth),
         clench=min(1.0, max(0.0, e.mouth_clench)),
         tongue=max(0.0, e.mouth_tongue),
+        press=min(1.0, max(0.0, e.mouth_press)),
     )
 
 
@@ -85,7 +87,9 @@ def mouth_window(e: Expression) -> Tuple[float, float, float, float]:
     g = geometry(e)
     ys = [f(u) for f in (g.upper, g.lower) for u in (-1 + i / 12 for i in range(25))]
     margin = 16.0  # more than half the widest pen, and the antialiasing
-    return (CENTRE_X - g.half - margin, min(ys) - margin, CENTRE_X + g.half + margin, max(ys) + margin)
+    low = max(ys) + (30 if g.press > 0 else 0)  # the pressed lips' mark sits below
+    side = g.half + margin + (12 if g.press > 0 else 0)  # and their creases outside the corners
+    return (CENTRE_X - side, min(ys) - margin, CENTRE_X + side, low + margin)
 
 
 def _mix(a, b, u: float):
@@ -120,6 +124,22 @@ def draw_mouth_numbers(c: Canvas, e: Expression) -> None:
             c.shape(stroke(middle, 3, c), bounds_of(middle, 4), INK, 0.7 * g.clench, clip=inside)
             _gaps(c, g, g.upper(0) + 4, g.lower(0) + 4, inside, g.clench, lower_half)
     c.shape(stroke(outline + outline[:1], pen, c), bounds_of(outline, pen), INK)
+    if g.press > 0:
+        _pressed(c, g)
+
+
+def _pressed(c: Canvas, g: MouthGeometry) -> None:
+    """Lips pressed together: a crease round each corner and the lower lip's mark below."""
+    for side in (-1, 1):
+        y = g.line(side)
+        crease = [
+            (CENTRE_X + side * (g.half + 5 + 3 * math.cos(a)), y + 1 + 12 * math.sin(a))
+            for a in (math.pi * (i / 12 - 0.5) for i in range(13))
+        ]
+        c.shape(stroke(crease, 6, c), bounds_of(crease, 6), INK, g.press)
+    y = g.lower(0) + 24
+    lip = [(CENTRE_X + x, y - 3 * (1 - (x / 34) ** 2)) for x in range(-34, 35, 4)]
+    c.shape(stroke(lip, 6, c), bounds_of(lip, 6), INK, 0.45 * g.press)
 
 
 def _gaps(
