@@ -115,7 +115,9 @@ def draw_mouth_numbers(c: Canvas, e: Expression) -> None:
             c.shape(ellipse(tx, ty, rx, ry), box, TONGUE, clip=inside)
         if g.teeth > 0:
             band = upper + _along(
-                g, lambda u: max(g.upper(u), min(g.corners + g.teeth * (1 + 0.4 * (1 - u * u)), g.lower(u))), forward=False
+                g,
+                lambda u: max(g.upper(u), min(g.corners + g.teeth * (1 + 0.4 * (1 - u * u)), g.lower(u))),
+                forward=False,
             )
             c.shape(polygon(band), bounds_of(band, 2), TEETH, clip=inside)
             _gaps(c, g, g.upper(0) + 2, g.corners + g.teeth * 1.27, polygon(band))

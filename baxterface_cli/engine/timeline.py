@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING, Any, Callable, Dict, List, NamedTuple, Optiona
 
 from ..core.expression import Expression
 from ..core.face_state import FaceState, Parts
-from ..core.presets import expression_of, speech_mouth
+from ..core.presets import speech_mouth
 from ..core.tables import REST, viseme_mouth
 from .effects import Cue, RobotStatus, StatusFold
 from .shape_tracks import ShapeTracks
@@ -164,7 +164,7 @@ def _speaking(state: FaceState, said: Said, t: float) -> FaceState:
     A tween between two shapes uses the crossfade; during an emotion's own
     crossfade, both sides of it show the shape, and the emotion's fade wins.
     """
-    from ..speech.visemes import shape_at
+    from ..speech.visemes import coarticulated_at, shape_at
 
     shape, tween_from, progress = shape_at(said.mouth, t - said.at)
 
@@ -173,10 +173,10 @@ def _speaking(state: FaceState, said: Said, t: float) -> FaceState:
 
     if state.expression is not None:
         # The drawn face's mouth moves through the shapes between two sounds, not a crossfade.
-        shown = expression_of(state)
-        spoken = _spoken(shown, shape)
-        if tween_from is not None and progress < 1.0:
-            spoken = _spoken(shown, tween_from).mix(spoken, progress)
+        drawn, drawn_from, drawn_progress = coarticulated_at(said.mouth, t - said.at)
+        spoken = _spoken(state.expression, drawn)
+        if drawn_from is not None and drawn_progress < 1.0:
+            spoken = _spoken(state.expression, drawn_from).mix(spoken, drawn_progress)
         state = state.replace(expression=spoken)
 
     now = mouth(state.parts, shape)

@@ -142,7 +142,13 @@ def test_speech_moves_the_drawn_mouth_through_its_shapes(monkeypatch):
     from baxterface_cli.speech.visemes import MouthKey
 
     utterance = Utterance("mama", "en", 175, np.zeros(22050, np.int16), 22050, (), ())
-    keys = (MouthKey(0.1, "closed", 0.0), MouthKey(0.3, "open", 0.04), MouthKey(0.6, "rest", 0.0))
+    keys = (
+        MouthKey(0.1, "closed", 0.0),
+        MouthKey(0.3, "open", 0.04),
+        MouthKey(0.5, "wide", 0.0),  # a near shape: a cut in a theme of pictures
+        MouthKey(0.55, "closed", 0.0),
+        MouthKey(0.6, "rest", 0.0),
+    )
     monkeypatch.setattr("baxterface_cli.speech.visemes.mouth_track", lambda u: keys)
     tl = timeline('happy; say "mama"', speak=lambda text, voice, rate: utterance)
     start = tl.speech[0].at
@@ -153,6 +159,14 @@ def test_speech_moves_the_drawn_mouth_through_its_shapes(monkeypatch):
         speech_mouth(face, "closed").mouth_open < between.mouth_open < speech_mouth(face, "open").mouth_open
     )
     assert tl.sample(start + 0.7).expression.mouth_curve == tl.sample(start - 0.01).expression.mouth_curve
+    # Drawn from numbers, the mouth moves into a near shape too (coarticulation)...
+    into_wide = tl.sample(start + 0.51).expression
+    assert (
+        speech_mouth(face, "wide").mouth_open < into_wide.mouth_open < speech_mouth(face, "open").mouth_open
+    )
+    assert tl.sample(start + 0.51).mouth == "speak-wide"  # where a picture theme cuts
+    # ...but the lips of p, b and m shut at once.
+    assert close(tl.sample(start + 0.551).expression, speech_mouth(face, "closed"))
 
 
 def idle_life(text: str, seconds: float = 120.0):
