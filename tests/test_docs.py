@@ -239,10 +239,11 @@ def test_the_languages_table_of_controls_is_the_controls_table():
             shown[cells[0]] = cells[1:]
     assert len(shown) == len(CONTROLS)
     for (part, control), spec in CONTROLS.items():
-        sided = "" in spec.sides and len(spec.sides) > 1
-        name = f"`{part} [left\\|right] {control}`" if sided else f"`{part} {control}`"
-        if part == "eyelids":
-            name = "`eyelids left\\|right`"
+        if "" not in spec.sides:
+            side = "left\\|right"
+        else:
+            side = "[left\\|right]" if len(spec.sides) > 1 else ""
+        name = "`" + " ".join(w for w in (part, side, control) if w) + "`"
         low_high, default, meaning, fields = shown[name]
         assert low_high == f"{spec.low:g} to {spec.high:g}", name
         first = spec.sides.get("", spec.sides.get("left"))[0]

@@ -30,6 +30,10 @@ class Expression(NamedTuple):
     brow_right_curve: float = 0.0
     lid_left: float = 1.0  # this eye's share of the lids' openness: 0 shut
     lid_right: float = 1.0
+    lid_left_angle: float = 0.0  # the lid's edge tilted: the inner corner down (a glare)
+    lid_right_angle: float = 0.0
+    pupil_left: float = 1.0  # the pupil's size: 1 as drawn
+    pupil_right: float = 1.0
     mouth_curve: float = 0.0  # 1 the smile, -1 the frown, 0 a straight line
     mouth_width: float = 1.0
     mouth_skew: float = 0.0  # a wave that lifts one corner and drops the other (confused)
@@ -117,4 +121,13 @@ CONTROLS: Dict[Tuple[str, str], Control] = {
     ("skin", "cheeks"): Control(_one("cheeks"), 0.0, 3.0, "blush; 1 as drawn"),
     ("skin", "sleepy"): Control(_one("sleepy"), 0.0, 1.0, "toward the sleeping skin and its Zzz"),
     ("eyelids", ""): Control({"left": ("lid_left",), "right": ("lid_right",)}, 0.0, 1.0, "one eye's share"),
+    ("eyelids", "angle"): Control(
+        _sides("lid", "angle"), -1.0, 1.0, "the edge tilted: the inner corner down (a glare), up (sorrow)"
+    ),
+    ("pupils", ""): Control(
+        {"": ("pupil_left", "pupil_right"), "left": ("pupil_left",), "right": ("pupil_right",)},
+        0.5,
+        1.6,
+        "the pupils' size; 1 as drawn",
+    ),
 }

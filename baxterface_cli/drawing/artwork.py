@@ -87,35 +87,63 @@ def draw_background(size: Tuple[int, int]) -> Image.Image:
     return c.image()
 
 
+def draw_pupil(c: Canvas, cx: float, cy: float, scale: float = 1.0) -> None:
+    """A pupil with its catch-lights, `scale` times its drawn size."""
+    r = PUPIL_R * scale
+    c.shape(ellipse(cx, cy, r, r), (cx - r - 2, cy - r - 2, cx + r + 2, cy + r + 2), PUPIL)
+    hx, hy, h = cx - 15 * scale, cy - 17 * scale, 11 * scale
+    c.shape(ellipse(hx, hy, h, h), (hx - h - 2, hy - h - 2, hx + h + 2, hy + h + 2), WHITE)
+    lx, ly, lr = cx + 14 * scale, cy + 16 * scale, 5 * scale
+    c.shape(ellipse(lx, ly, lr, lr), (lx - lr - 2, ly - lr - 2, lx + lr + 2, ly + lr + 2), WHITE, 0.8)
+
+
+def pupil_window(index: int, scale: float) -> Tuple[float, float, float, float]:
+    cx, cy = eye_centres()[index]
+    r = PUPIL_R * scale + 6
+    return (cx - r, cy - r, cx + r, cy + r)
+
+
 def draw_eyes(size: Tuple[int, int]) -> Image.Image:
     """Both pupils, with a catch-light each, at rest (looking ahead)."""
     c = Canvas(size)
     for cx, cy in eye_centres():
-        box = (cx - PUPIL_R - 2, cy - PUPIL_R - 2, cx + PUPIL_R + 2, cy + PUPIL_R + 2)
-        c.shape(ellipse(cx, cy, PUPIL_R, PUPIL_R), box, PUPIL)
-        hx, hy = cx - 15, cy - 17
-        c.shape(ellipse(hx, hy, 11, 11), (hx - 13, hy - 13, hx + 13, hy + 13), WHITE)
-        c.shape(ellipse(cx + 14, cy + 16, 5, 5), (cx + 7, cy + 9, cx + 21, cy + 23), WHITE, 0.8)
+        draw_pupil(c, cx, cy)
     return c.image()
 
 
-def lid_edge(x: float, cx: float, cy: float) -> float:
-    """The closed lid's lower edge: a gentle arc, lowest under the eye's centre."""
+LID_TILT = 30.0  # face pixels the lid's inner corner drops below its outer one at tilt 1
+
+
+def lid_edge(x: float, cx: float, cy: float, tilt: float = 0.0) -> float:
+    """The closed lid's lower edge: a gentle arc, lowest under the eye's centre; `tilt` drops
+    its inner corner (the one toward the face's centre line) and raises the outer one."""
     rx, depth = LID
-    return cy + depth - LID_SAG * (1 - math.sqrt(max(0.0, 1 - ((x - cx) / rx) ** 2)))
+    inward = 1.0 if cx < CENTRE_X else -1.0  # which way x runs toward the centre line
+    slant = tilt * LID_TILT / 2 * inward * (x - cx) / rx
+    return cy + depth - LID_SAG * (1 - math.sqrt(max(0.0, 1 - ((x - cx) / rx) ** 2))) + slant
+
+
+def draw_lid(c: Canvas, cx: float, cy: float, tilt: float = 0.0) -> None:
+    rx = LID[0]
+    lower = curve(lambda x: lid_edge(x, cx, cy, tilt), cx + rx, cx - rx)
+    outline = [(cx - rx, cy - LID_TOP), (cx + rx, cy - LID_TOP)] + lower
+    c.shape(polygon(outline), bounds_of(outline, 2), LID_COLOR)
+    lash = curve(lambda x: lid_edge(x, cx, cy, tilt) - 3, cx - rx + 6, cx + rx - 6)
+    c.shape(stroke(lash, 8, c), bounds_of(lash, 8), INK)
+
+
+def lid_window(index: int, tilt: float) -> Tuple[float, float, float, float]:
+    cx, cy = eye_centres()[index]
+    rx, depth = LID
+    return (cx - rx - 8, cy - LID_TOP - 4, cx + rx + 8, cy + depth + abs(tilt) * LID_TILT / 2 + 8)
 
 
 def draw_eyelids(size: Tuple[int, int]) -> Image.Image:
     """Both lids, closed. All but their lowest rows are one flat colour, so
     those rows are identical and a moving lid changes pixels near its edge only."""
     c = Canvas(size)
-    rx = LID[0]
     for cx, cy in eye_centres():
-        lower = curve(lambda x, cx=cx, cy=cy: lid_edge(x, cx, cy), cx + rx, cx - rx)
-        outline = [(cx - rx, cy - LID_TOP), (cx + rx, cy - LID_TOP)] + lower
-        c.shape(polygon(outline), bounds_of(outline, 2), LID_COLOR)
-        lash = curve(lambda x, cx=cx, cy=cy: lid_edge(x, cx, cy) - 3, cx - rx + 6, cx + rx - 6)
-        c.shape(stroke(lash, 8, c), bounds_of(lash, 8), INK)
+        draw_lid(c, cx, cy)
     return c.image()
 
 

@@ -11,20 +11,30 @@ from __future__ import annotations
 
 import math
 from collections import OrderedDict
-from typing import Callable, Dict, Hashable, NamedTuple, Tuple
+from typing import Any, Callable, Dict, Hashable, NamedTuple, Tuple
 
 import numpy as np
 
 from ..core.expression import BROW_FIELDS, MOUTH_FIELDS, SKIN_FIELDS, Expression, finite
 from ..core.face_state import Parts
 from ..core.presets import from_parts
-from .artwork import brows_window, draw_brows_numbers, draw_skin
-from .compositing import Sprite, sprite_from_rgba
+from .artwork import (
+    brows_window,
+    draw_brows_numbers,
+    draw_lid,
+    draw_pupil,
+    draw_skin,
+    eye_centres,
+    lid_window,
+    pupil_window,
+)
+from .compositing import Sprite, alike_rows, sprite_from_rgba
 from .mouth_drawing import draw_mouth_numbers, mouth_window
 from .vector_shapes import Canvas
 
 KEPT = 48  # drawn parts kept per kind: a morph's worth, and every speech shape
 STEPS = 256  # mouth and brow numbers are rounded to 1/STEPS: under half a face pixel
+EYE_STEPS = 64  # pupil sizes and lid tilts to 1/64: under a face pixel
 SKIN_STEPS = 32  # skin numbers to 1/32: colour steps too small to see
 
 Size = Tuple[int, int]
@@ -124,6 +134,51 @@ class DrawnParts:
         self.mouths = PartBook(mouths, self._mouth, lambda m: self.keys(from_parts(Parts(mouth=m))).mouth)
         self.brows = PartBook(brows, self._brows, lambda b: self.keys(from_parts(Parts(brows=b))).brows)
         self._basis: Dict[int, Sprite] = {}
+        self._eyes: OrderedDict[Tuple[str, int, int], Any] = OrderedDict()
+
+    @staticmethod
+    def eye_keys(e: Expression) -> Tuple[Tuple[int, ...], Tuple[int, ...]]:
+        """(pupil sizes, lid tilts) of the eyes left to right on the screen (the robot's right
+        eye first), in 1/EYE_STEPS."""
+        e = finite(e)
+        sizes = (e.pupil_right, e.pupil_left)
+        tilts = (e.lid_right_angle, e.lid_left_angle)
+        return (
+            tuple(int(math.floor(min(1.6, max(0.5, v)) * EYE_STEPS + 0.5)) for v in sizes),
+            tuple(int(math.floor(min(1.0, max(-1.0, v)) * EYE_STEPS + 0.5)) for v in tilts),
+        )
+
+    def pupil(self, index: int, size: int) -> Sprite:
+        """Eye `index`'s pupil at `size` (1/EYE_STEPS), at rest."""
+        cx, cy = eye_centres()[index]
+        scale = size / EYE_STEPS
+        return self._kept(
+            ("pupil", index, size),
+            lambda: _drawn_sprite(
+                self.size, pupil_window(index, scale), lambda c: draw_pupil(c, cx, cy, scale)
+            ),
+        )
+
+    def lid(self, index: int, tilt: int) -> Tuple[Sprite, Tuple[int, int]]:
+        """Eye `index`'s lid, closed, tilted by `tilt` (1/EYE_STEPS), with its band of alike rows."""
+        cx, cy = eye_centres()[index]
+        angle = tilt / EYE_STEPS
+
+        def draw() -> Tuple[Sprite, Tuple[int, int]]:
+            sprite = _drawn_sprite(self.size, lid_window(index, angle), lambda c: draw_lid(c, cx, cy, angle))
+            return sprite, alike_rows(sprite)
+
+        return self._kept(("lid", index, tilt), draw)
+
+    def _kept(self, key: Tuple[str, int, int], draw: Callable[[], Any]) -> Any:
+        found = self._eyes.get(key)
+        if found is None:
+            found = self._eyes[key] = draw()
+            while len(self._eyes) > KEPT:
+                self._eyes.popitem(last=False)
+        else:
+            self._eyes.move_to_end(key)
+        return found
 
     @staticmethod
     def keys(e: Expression) -> Parts:

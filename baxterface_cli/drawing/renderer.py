@@ -25,6 +25,7 @@ from ..core.face_state import FaceState, Parts
 from ..core.geometry import clamp_to_ellipse
 from ..core.presets import expression_of
 from .compositing import Rect, Sprite, div255, div255_inplace, finish, intersect, lay
+from .drawn_parts import EYE_STEPS
 from .theme_fitting import ThemeLayers
 
 PARTS_KEPT = 12  # part combinations kept: every emotion's, with room to spare
@@ -37,6 +38,10 @@ class Pose(NamedTuple):
     eye_dx: int
     eye_dy: int
     lid_dy: Tuple[int, ...]  # one per lid sprite of the theme, as layers.lids
+    # The drawn face's pupil sizes and lid tilts, per eye left to right (DrawnParts.eye_keys);
+    # empty: the theme's own sprites.
+    pupils: Tuple[int, ...] = ()
+    tilts: Tuple[int, ...] = ()
 
 
 def pose(layers: ThemeLayers, state: FaceState) -> Pose:
@@ -54,7 +59,24 @@ def pose(layers: ThemeLayers, state: FaceState) -> Pose:
         -_round(layers.lid_travel * openness * share[0 if lid.x + lid.width / 2 < middle else 1])
         for lid in layers.lids
     )
-    return Pose(_round(x * s), _round(y * s), lids)
+    if layers.drawn is None or shape is None or len(layers.eyes) != 2 or len(layers.lids) != 2:
+        return Pose(_round(x * s), _round(y * s), lids)
+    pupils, tilts = layers.drawn.eye_keys(shape)
+    return Pose(_round(x * s), _round(y * s), lids, pupils, tilts)
+
+
+def eye_sprite(layers: ThemeLayers, at: Pose, i: int) -> Sprite:
+    """Eye i's pupil as `at` draws it: the theme's, or the drawn face's at another size."""
+    if not at.pupils or at.pupils[i] == EYE_STEPS:
+        return layers.eyes[i]
+    return layers.drawn.pupil(i, at.pupils[i])  # type: ignore[union-attr]
+
+
+def lid_sprite(layers: ThemeLayers, at: Pose, i: int) -> Tuple[Sprite, Tuple[int, int]]:
+    """Lid i as `at` draws it, with its band of alike rows: the theme's, or a tilted one."""
+    if not at.tilts or at.tilts[i] == 0:
+        return layers.lids[i], layers.lid_bands[i]
+    return layers.drawn.lid(i, at.tilts[i])  # type: ignore[union-attr]
 
 
 def _unit(v: float) -> float:
@@ -123,10 +145,10 @@ def bottom_stack(layers: ThemeLayers, at: Pose, rect: Rect) -> np.ndarray:
     """Background, pupils and lids over `rect`, as uint16 colour."""
     x0, y0, x1, y1 = rect
     under = layers.background[y0:y1, x0:x1].astype(np.uint16)
-    for eye in layers.eyes:
-        lay(under, rect, eye, at.eye_dx, at.eye_dy)
-    for lid, dy in zip(layers.lids, at.lid_dy):
-        lay(under, rect, lid, 0, dy)
+    for i in range(len(layers.eyes)):
+        lay(under, rect, eye_sprite(layers, at, i), at.eye_dx, at.eye_dy)
+    for i, dy in enumerate(at.lid_dy):
+        lay(under, rect, lid_sprite(layers, at, i)[0], 0, dy)
     return under
 
 
@@ -305,12 +327,19 @@ class Renderer:
     def _changed(self, old: Pose, new: Pose) -> List[Rect]:
         """Rectangles outside which a move from `old` to `new` changes no pixel."""
         rects: List[Rect] = []
-        if (old.eye_dx, old.eye_dy) != (new.eye_dx, new.eye_dy):
-            for eye in self.layers.eyes:
-                a, b = eye.rect(old.eye_dx, old.eye_dy), eye.rect(new.eye_dx, new.eye_dy)
+        moved = (old.eye_dx, old.eye_dy) != (new.eye_dx, new.eye_dy)
+        for i in range(len(self.layers.eyes)):
+            before, after = eye_sprite(self.layers, old, i), eye_sprite(self.layers, new, i)
+            if moved or before is not after:
+                a, b = before.rect(old.eye_dx, old.eye_dy), after.rect(new.eye_dx, new.eye_dy)
                 rects.append((min(a[0], b[0]), min(a[1], b[1]), max(a[2], b[2]), max(a[3], b[3])))
-        for lid, (a, b), was, now in zip(self.layers.lids, self.layers.lid_bands, old.lid_dy, new.lid_dy):
-            if was != now:
+        for i, (was, now) in enumerate(zip(old.lid_dy, new.lid_dy)):
+            before, _ = lid_sprite(self.layers, old, i)
+            lid, (a, b) = lid_sprite(self.layers, new, i)
+            if before is not lid:  # another lid: wherever either reaches
+                p, q = before.rect(0, was), lid.rect(0, now)
+                rects.append((min(p[0], q[0]), min(p[1], q[1]), max(p[2], q[2]), max(p[3], q[3])))
+            elif was != now:
                 low, high = sorted((was, now))
                 # Rows inside the lid's band of identical rows, at both offsets,
                 # show the same colours: only the two stretches outside change.

@@ -264,6 +264,11 @@ class _Builder(ExpressionRules, Transformer):
             return n.Skin(self._skin(index), pos=self._pos(at))
         return self._adjust("skin", children)
 
+    def pupils(self, children: List[Any]) -> n.Adjust:
+        at, *rest = children
+        side = rest.pop(0) if not isinstance(rest[0], Token) else ""
+        return self._adjust("pupils", [at, None, *rest], side)
+
     def _skin(self, token: Token) -> int:
         return self._whole(token, "index", "a skin", min(SKINS), max(SKINS))
 
@@ -284,8 +289,11 @@ class _Builder(ExpressionRules, Transformer):
 
     def eyelids(self, children: List[Any]) -> Any:
         at, *rest = children
-        if not isinstance(rest[0], Token):  # a side: that eye's share of the lids' openness
-            return self._adjust("eyelids", [at, None, *rest[1:]], rest[0])
+        side = rest.pop(0) if not isinstance(rest[0], Token) else ""
+        if len(rest) > 1 and isinstance(rest[1], Token):  # a control's name: `eyelids left angle 0.5`
+            return self._adjust("eyelids", [at, *rest], side)
+        if side:  # one eye's share of the lids' openness
+            return self._adjust("eyelids", [at, None, *rest], side)
         amount, *rest = rest
         openness = self._number(amount, "openness", "eyelid openness")
         if openness is None:

@@ -71,4 +71,5 @@ KEYWORDS: Tuple[str, ...] = (
     "say",
     "mood",
     "wink",
+    "pupils",
 )

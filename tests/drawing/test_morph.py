@@ -114,3 +114,44 @@ def test_a_theme_of_pictures_shows_the_named_parts(tmp_path):
 
 def test_every_preset_is_a_known_part():
     assert set(MOUTH_PRESETS) == set(MOUTHS) and set(BROW_PRESETS) == set(BROWS)
+
+
+def dark_in_eye(frame: np.ndarray, index: int) -> int:
+    x = 312 if index == 0 else 712  # the viewer's left eye is the robot's right
+    return int((frame[180:330, x - 60 : x + 60].astype(int).sum(axis=2) < 150).sum())
+
+
+def test_pupils_grow_and_shrink_each_on_its_own(layers):
+    base = emotion_preset("default")
+    plain = compose(layers, FaceState(expression=base))
+    wide = compose(layers, FaceState(expression=base._replace(pupil_left=1.5)))
+    assert dark_in_eye(wide, 1) > 1.5 * dark_in_eye(plain, 1)  # the robot's left: the viewer's right
+    assert dark_in_eye(wide, 0) == dark_in_eye(plain, 0)
+    small_ = compose(layers, FaceState(expression=base._replace(pupil_right=0.6)))
+    assert dark_in_eye(small_, 0) < 0.6 * dark_in_eye(plain, 0)
+
+
+def lid_edge_rows(frame: np.ndarray, x: int) -> int:
+    """The lowest row of lid colour down column x, above the eye's middle."""
+    lid = np.array((126, 172, 226))  # LID_COLOR in B, G, R
+    rows = np.flatnonzero((np.abs(frame[60:255, x].astype(int) - lid).max(axis=1) < 30))
+    return 60 + int(rows.max())
+
+
+def test_a_tilted_lid_drops_its_inner_corner(layers):
+    glare = emotion_preset("default")._replace(lid_left_angle=1.0, lid_right_angle=1.0)
+    frame = compose(layers, FaceState(eyelids=0.5, expression=glare))
+    level = compose(layers, FaceState(eyelids=0.5, expression=emotion_preset("default")))
+    # The viewer's left eye: its inner corner is on its right, toward the face's middle.
+    inner, outer = lid_edge_rows(frame, 312 + 70), lid_edge_rows(frame, 312 - 70)
+    assert inner - outer > 15
+    assert abs(lid_edge_rows(level, 312 + 70) - lid_edge_rows(level, 312 - 70)) <= 2
+
+
+def test_the_cached_renderer_keeps_up_with_pupils_and_tilts(layers):
+    renderer = Renderer(layers)
+    base = emotion_preset("happy")
+    for i, u in enumerate(np.linspace(0, 1, 6)):
+        e = base._replace(pupil_left=1 + u / 2, pupil_right=1 - u / 3, lid_left_angle=u, lid_right_angle=-u)
+        state = FaceState(eye_x=8.0 * i, eyelids=0.7 + 0.05 * i, expression=e)
+        assert np.array_equal(renderer.render(state), compose(layers, state)), u

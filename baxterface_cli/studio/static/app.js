@@ -390,7 +390,8 @@
   // -- the mood pad and the intensity slider: presses too, sent as they move
 
   // A moving control sends one line at a time, at most every LIVE_EVERY ms, the newest position
-  // winning; the last one always goes, so the face ends where the control was let go.
+  // winning; the last one always goes, so the face ends where the control was let go. A line the
+  // same as the one before is sent again only when asked (`again`: a new click or key press).
   const LIVE_EVERY = 100;
   const LIVE_IN = "0.2s";
 
@@ -428,8 +429,9 @@
         });
     }
     return {
-      send(line) {
+      send(line, again = false) {
         wanted = line;
+        if (again) sent = null;
         if (!timer) go();
       },
       // Nothing on its way, nor lately sent: the control may follow the face again.
@@ -464,11 +466,11 @@
       area.setAttribute("aria-valuenow", String(valence));
       area.setAttribute("aria-valuetext", `valence ${valence}, arousal ${arousal}`);
     }
-    pad.set = (v, a) => {
+    pad.set = (v, a, again = false) => {
       valence = rounded(v, -1, 1);
       arousal = rounded(a, -1, 1);
       show();
-      sender.send(moodLine(valence, arousal));
+      sender.send(moodLine(valence, arousal), again);
     };
     // The face's own mood (a `mood` pressed or played elsewhere), while the pad is left alone.
     pad.follow = (mood) => {
@@ -488,7 +490,7 @@
       held = event.pointerId;
       area.setPointerCapture(held);
       area.classList.add("dragging");
-      pad.set(...at(event));
+      pad.set(...at(event), true);
     });
     area.addEventListener("pointermove", (event) => {
       if (event.pointerId === held) pad.set(...at(event));
@@ -509,8 +511,9 @@
         ArrowUp: [0, step],
         ArrowDown: [0, -step],
       };
-      if (event.key === "Home") pad.set(0, 0);
-      else if (moves[event.key]) pad.set(valence + moves[event.key][0], arousal + moves[event.key][1]);
+      const again = !event.repeat;
+      if (event.key === "Home") pad.set(0, 0, again);
+      else if (moves[event.key]) pad.set(valence + moves[event.key][0], arousal + moves[event.key][1], again);
       else return;
       event.preventDefault();
     });
@@ -535,7 +538,8 @@
   }
 
   // Focus in the editor or a field that takes text: keys are for it, not shortcuts.
-  // (A checkbox, the slider or a button keeps the shortcuts working.)
+  // (A checkbox, the preview's slider or a button keeps the shortcuts working; the mood pad and
+  // the intensity slider keep only the keys that move them.)
   const NOT_TEXT = ["checkbox", "radio", "range", "button", "submit", "reset", "color", "file"];
   const MOVING_KEYS = ["ArrowLeft", "ArrowRight", "ArrowUp", "ArrowDown", "Home", "End", "PageUp", "PageDown"];
   function typing(target) {
@@ -552,7 +556,7 @@
       return;
     }
     if (event.ctrlKey || event.metaKey || event.altKey || typing(event.target)) return;
-    // The mood pad and the intensity slider move with the arrows (and Home, End, Page Up/Down).
+    // The mood pad and the intensity slider move with the arrows (and Home, End, Page Up, Page Down).
     if (event.target.closest && event.target.closest(".owns-arrows") && MOVING_KEYS.includes(event.key)) return;
     if (event.key === " ") {
       event.preventDefault();
