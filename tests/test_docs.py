@@ -239,10 +239,8 @@ def test_the_languages_table_of_controls_is_the_controls_table():
             shown[cells[0]] = cells[1:]
     assert len(shown) == len(CONTROLS)
     for (part, control), spec in CONTROLS.items():
-        if "" not in spec.sides:
-            side = "left\\|right"
-        else:
-            side = "[left\\|right]" if len(spec.sides) > 1 else ""
+        optional = "[left\\|right]" if len(spec.sides) > 1 else ""
+        side = optional if "" in spec.sides else "left\\|right"
         name = "`" + " ".join(w for w in (part, side, control) if w) + "`"
         low_high, default, meaning, fields = shown[name]
         assert low_high == f"{spec.low:g} to {spec.high:g}", name

@@ -134,7 +134,7 @@ def test_pupils_grow_and_shrink_each_on_its_own(layers):
 def lid_edge_rows(frame: np.ndarray, x: int) -> int:
     """The lowest row of lid colour down column x, above the eye's middle."""
     lid = np.array((126, 172, 226))  # LID_COLOR in B, G, R
-    rows = np.flatnonzero((np.abs(frame[60:255, x].astype(int) - lid).max(axis=1) < 30))
+    rows = np.flatnonzero(np.abs(frame[60:255, x].astype(int) - lid).max(axis=1) < 30)
     return 60 + int(rows.max())
 
 
