@@ -362,7 +362,9 @@ def coarticulated_at(track: Tuple[MouthKey, ...], t: float) -> Tuple[str, Option
     if key.shape == "closed" or i == 0:
         return shape_at(track, t)
     length = track[i + 1].at - key.at if i + 1 < len(track) else COARTICULATION
-    blend = key.blend or min(COARTICULATION, length)
+    # Into a pause, no slower than the rules' promise that the mouth is at rest within rest_within.
+    most = MOUTH_RULES.rest_within if key.shape == REST else COARTICULATION
+    blend = key.blend or min(most, length)
     if blend > 0 and t < key.at + blend:
         return key.shape, track[i - 1].shape, (t - key.at) / blend
     return key.shape, None, 1.0
