@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 from collections import OrderedDict
+from functools import lru_cache
 from typing import Any, Callable, Dict, Hashable, NamedTuple, Tuple
 
 import numpy as np
@@ -61,6 +62,29 @@ def _round(e: Expression, fields: Tuple[str, ...], steps: int) -> Tuple[int, ...
 
 def _expression(fields: Tuple[str, ...], numbers: Tuple[int, ...], steps: int) -> Expression:
     return Expression()._replace(**{f: n / steps for f, n in zip(fields, numbers)})
+
+
+# Every frame asks for the keys of its expression, mostly the same one as the frame before:
+# kept, so a face that only moves its eyes pays a lookup, not 31 roundings.
+@lru_cache(maxsize=64)
+def _keys(e: Expression) -> Parts:
+    e = finite(e)
+    return Parts(
+        SkinKey(_round(e, SKIN_FIELDS, SKIN_STEPS)),
+        MouthKey(_round(e, MOUTH_FIELDS, STEPS)),
+        BrowsKey(_round(e, _BROWS, STEPS)),
+    )
+
+
+@lru_cache(maxsize=64)
+def _eye_keys(e: Expression) -> Tuple[Tuple[int, ...], Tuple[int, ...]]:
+    e = finite(e)
+    sizes = (e.pupil_right, e.pupil_left)
+    tilts = (e.lid_right_angle, e.lid_left_angle)
+    return (
+        tuple(int(math.floor(min(1.6, max(0.5, v)) * EYE_STEPS + 0.5)) for v in sizes),
+        tuple(int(math.floor(min(1.0, max(-1.0, v)) * EYE_STEPS + 0.5)) for v in tilts),
+    )
 
 
 class PartBook:
@@ -140,13 +164,7 @@ class DrawnParts:
     def eye_keys(e: Expression) -> Tuple[Tuple[int, ...], Tuple[int, ...]]:
         """(pupil sizes, lid tilts) of the eyes left to right on the screen (the robot's right
         eye first), in 1/EYE_STEPS."""
-        e = finite(e)
-        sizes = (e.pupil_right, e.pupil_left)
-        tilts = (e.lid_right_angle, e.lid_left_angle)
-        return (
-            tuple(int(math.floor(min(1.6, max(0.5, v)) * EYE_STEPS + 0.5)) for v in sizes),
-            tuple(int(math.floor(min(1.0, max(-1.0, v)) * EYE_STEPS + 0.5)) for v in tilts),
-        )
+        return _eye_keys(e)
 
     def pupil(self, index: int, size: int) -> Sprite:
         """Eye `index`'s pupil at `size` (1/EYE_STEPS), at rest."""
@@ -183,12 +201,7 @@ class DrawnParts:
     @staticmethod
     def keys(e: Expression) -> Parts:
         """The drawn parts that show expression `e`."""
-        e = finite(e)
-        return Parts(
-            SkinKey(_round(e, SKIN_FIELDS, SKIN_STEPS)),
-            MouthKey(_round(e, MOUTH_FIELDS, STEPS)),
-            BrowsKey(_round(e, _BROWS, STEPS)),
-        )
+        return _keys(e)
 
     def _mouth(self, key: Hashable) -> Sprite:
         e = _expression(MOUTH_FIELDS, key.numbers, STEPS)  # type: ignore[attr-defined]
