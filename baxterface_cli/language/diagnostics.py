@@ -173,8 +173,3 @@ def _excerpt(text: Optional[str], line: int, column: int) -> Optional[Tuple[str,
 def _line_starts(text: str) -> List[int]:
     """Where each line begins: found once per text, not once per diagnostic."""
     return [0] + [m.end() for m in re.finditer("\n", text)]
-
-
-def shortened(word: str, most: int = 40) -> str:
-    """A word as an error shows it: a 300 KB one would fill the terminal (and the studio's log)."""
-    return word if len(word) <= most else word[:most] + "..."

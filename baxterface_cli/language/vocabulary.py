@@ -69,7 +69,4 @@ KEYWORDS: Tuple[str, ...] = (
     "together",
     "define",
     "say",
-    "mood",
-    "wink",
-    "pupils",
 )
