@@ -11,7 +11,7 @@ from typing import Any, Dict, Iterator, List, Optional, Sequence, Set, Tuple
 
 from ..core.tables import LIMITS
 from . import syntax_tree as n
-from .diagnostics import Diagnostic, Hints
+from .diagnostics import Diagnostic, Hints, shortened
 from .durations import statement_seconds
 from .vocabulary import BARE_WORDS, KEYWORDS, LEGACY_USAGE
 
@@ -90,16 +90,11 @@ def _check_calls(body: Sequence[Any], definitions: Dict[str, n.Define], out: Lis
             usage = LEGACY_USAGE[legacy][1]
             _error(out, statement, f"'{name}' is not a valid legacy command; write {usage}, with numbers")
         else:
-            _error(out, statement, f"unknown command '{_short(name)}'{hints(name, known)}")
+            _error(out, statement, f"unknown command '{shortened(name)}'{hints(name, known)}")
     for name, definition in definitions.items():
         if name not in used:
             pos = definition.pos
             out.append(Diagnostic(pos.line, pos.column, f"'{name}' is defined but never used", "warning"))
-
-
-def _short(word: str, most: int = 40) -> str:
-    """A word as an error shows it: a 300 KB one would fill the terminal (and the studio's log)."""
-    return word if len(word) <= most else word[:most] + "..."
 
 
 def _calls_in(body: Sequence[Any]) -> List[n.Call]:

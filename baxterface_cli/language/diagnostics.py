@@ -173,3 +173,8 @@ def _excerpt(text: Optional[str], line: int, column: int) -> Optional[Tuple[str,
 def _line_starts(text: str) -> List[int]:
     """Where each line begins: found once per text, not once per diagnostic."""
     return [0] + [m.end() for m in re.finditer("\n", text)]
+
+
+def shortened(text: str, most: int = 40) -> str:
+    """Text as a message shows it: a 300 KB word or reason would fill the terminal, the log."""
+    return text if len(text) <= most else text[:most] + "..."

@@ -25,7 +25,7 @@ from starlette.websockets import WebSocket, WebSocketDisconnect
 from ..core.tables import LIMITS
 from ..drawing.renderer import Renderer
 from ..extras import MissingTool
-from ..language.diagnostics import ScriptError
+from ..language.diagnostics import ScriptError, shortened
 from .guard import Guard
 from .pump import Frames, Pages, Pump, log
 from .workspace import SaveConflict, Workspace, check_text, diagnostics_json
@@ -34,6 +34,7 @@ STATIC = Path(__file__).resolve().parent / "static"
 SOUND_KEY = re.compile(r"[0-9a-f]{16}")  # as `preview.sound_key` makes them
 TRANSPORT_ACTIONS = ("play", "pause", "seek", "loop")
 HEAVY_WAITING = 16  # scripts waiting to be parsed before more are refused
+LOGGED = 300  # characters of an error's reason the log keeps: one line, whatever was sent
 Handler = Callable[[Any, Request], Awaitable[Response]]
 
 
@@ -289,15 +290,10 @@ def _reason(response: Any) -> str:
         if "diagnostics" in answer:
             first = answer["diagnostics"][0]
             place = f"{first['line']}:{first['column']}: " if first["line"] else ""
-            return _short(f"{place}{first['message']}")
-        return _short(str(answer["error"]))
+            return shortened(f"{place}{first['message']}", LOGGED)
+        return shortened(str(answer["error"]), LOGGED)
     except (ValueError, KeyError, IndexError, TypeError, AttributeError):
         return "(no reason given)"
-
-
-def _short(reason: str, most: int = 300) -> str:
-    """A reason as the log keeps it: one line of a readable length, whatever was sent."""
-    return reason if len(reason) <= most else reason[:most] + "..."
 
 
 def _problem(message: str) -> Dict[str, Any]:
