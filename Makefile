@@ -27,7 +27,7 @@ PIP_QUIET := --quiet --disable-pip-version-check
 # pytest workers for each Python suite (they run beside each other and the ROS suite)
 JOBS ?= 2
 
-.PHONY: play test test-python test-python38 test-ros lint format golden theme pictures bench system system-play venv \
+.PHONY: play test test-python test-python38 test-ros test-realtime lint format golden theme pictures bench system system-play venv \
 	venv-play venv-studio venv38 venv-ros ros clean editor studio
 
 # `venv` is the full one the tests, lint and benchmarks use; play and studio make smaller ones first.
@@ -94,14 +94,23 @@ format: venv
 # side by side, mostly waiting on the registry), and the three run side by side, each printed
 # whole when it ends: the 3.11 suite (after the lint), the 3.8 one and the ROS one, each spread
 # over the cores by pytest-xdist.
+# Then the few tests that hear or see real time (marked `realtime`: sound heard to the sample as
+# its frame shows) run alone under each Python, on a machine no other test is loading.
 test: system
-	$(MAKE) --no-print-directory -j3 --output-sync=target test-python test-python38 test-ros
+	$(MAKE) --no-print-directory -j3 --output-sync=target test-python test-python38 test-ros \
+		BESIDE="and not realtime"
+	$(MAKE) --no-print-directory test-realtime
 
 test-python: lint
-	$(BIN)/python -m pytest -n $(JOBS) --dist loadgroup
+	$(BIN)/python -m pytest -n $(JOBS) --dist loadgroup -m "not ros $(BESIDE)"
 
 test-python38: venv38
-	$(VENV38)/bin/python -m pytest -n $(JOBS) --dist loadgroup -m "not slow and not ros" -p no:cacheprovider
+	$(VENV38)/bin/python -m pytest -n $(JOBS) --dist loadgroup -m "not slow and not ros $(BESIDE)" \
+		-p no:cacheprovider
+
+test-realtime: venv venv38
+	$(BIN)/python -m pytest -m "realtime and not ros" -p no:cacheprovider
+	$(VENV38)/bin/python -m pytest -m "realtime and not slow and not ros" -p no:cacheprovider
 
 test-ros: venv-ros
 	$(VENV_ROS)/bin/python -m pytest -n $(JOBS) -m ros -p no:cacheprovider -W ignore::DeprecationWarning

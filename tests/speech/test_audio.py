@@ -174,8 +174,11 @@ def levels(samples: np.ndarray) -> List[Tuple[int, int]]:
 
 
 # -- through PortAudio, into the pipe card -----------------------------------
+# These hear the card in real time, sample for sample: `make test` runs them alone, after the
+# parallel suites, so that a starved sound callback is the product's fault, not the machine's.
 
 
+@pytest.mark.realtime
 def test_play_speaks_the_utterance_when_the_picture_starts_saying_it(card):
     text = "Hello there, I am Baxter."
     child = spawn_play("-e", f'wait 0.5s; say "{text}"', env=card.env())
@@ -197,6 +200,7 @@ def test_play_speaks_the_utterance_when_the_picture_starts_saying_it(card):
     assert abs(card.heard_at(at) - seen) < 2 / 30 + 0.02
 
 
+@pytest.mark.realtime
 def test_play_loop_says_it_again_each_lap(card):
     utterance = spoken("Loop")
     lap = len(utterance) / RATE + 0.3
@@ -215,6 +219,7 @@ def test_play_loop_says_it_again_each_lap(card):
     assert np.diff(starts) / RATE == pytest.approx([lap] * (len(starts) - 1), abs=0.005)  # every lap, in step
 
 
+@pytest.mark.realtime
 def test_ctrl_c_silences_the_words_being_said(card):
     text = "I will keep on talking for a good few seconds, so that there is time to stop me."
     utterance = spoken(text)
@@ -257,6 +262,7 @@ print(json.dumps({"available": sound.available, "rate": sound.rate}))
 """
 
 
+@pytest.mark.realtime
 def test_sounds_played_together_are_mixed_and_skip_cuts_or_delays(card):
     proc = subprocess.run(
         [sys.executable, "-c", MIX_DRIVER],
