@@ -132,6 +132,7 @@ pictures: venv
 # The benchmarks whose figures are in the README.
 bench: venv venv-ros
 	$(BIN)/python bench/bench_render.py
+	$(BIN)/python bench/bench_expression.py
 	$(BIN)/python bench/bench_gif.py
 	$(BIN)/python bench/bench_playback.py
 	$(VENV_ROS)/bin/python bench/bench_node.py

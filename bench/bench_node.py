@@ -11,6 +11,10 @@ its own process, and measures from a third one (this):
   a frame it already holds: ROS's own cost of moving 1.8 MB;
 - first motion: from `look_60_0` (a 0.5 s move) to the first frame showing
   the eyes moving, beside a jump (`look_60_0_0`), which shows at once;
+- the continuous face's statements (`happy 0.4`, a blend, a timed `mood`, `wink left`,
+  a timed `mouth curve`), each sent to a still default face, to its first changed
+  frame; beside it, when the statement's own timeline first changes the picture (an
+  untimed emotion moves the lids first, for 0.3 s, so its face changes only then);
 - frame rate reaching a subscriber during a 30 fps look animation whose
   every frame differs (the node sends no frame that did not change);
 - an idle face (idle blinks on): frames a second between blinks, and the
@@ -30,7 +34,13 @@ from pathlib import Path
 
 from ros_master import start_roscore
 
+from baxterface_cli.core.presets import expression_of
 from baxterface_cli.core.tables import LIMITS
+from baxterface_cli.drawing.renderer import pose
+from baxterface_cli.drawing.theme import Theme
+from baxterface_cli.engine.animation import Animation
+from baxterface_cli.engine.compiler import compile_script
+from baxterface_cli.language.parser import parse
 
 ROOT = Path(__file__).resolve().parent.parent
 RELAY = """
@@ -43,6 +53,15 @@ pub = rospy.Publisher("/robot/xdisplay", Image, latch=True, queue_size=1)
 rospy.Subscriber("/display_chatter", String, lambda m: pub.publish(frame))
 rospy.spin()
 """
+# The continuous face's statements, each with what brings the face back to `default` before
+# it (at once): the face is still when each is sent, so the first frame after it is its own.
+STATEMENTS = [
+    ("happy 0.4", "default in 0s"),
+    ("happy 0.6 + confused 0.4", "default in 0s"),
+    ("mood 0.6 -0.2 in 0.5s", "mood 0 0 in 0s"),  # `mood 0 0` ends the mood, with the default face
+    ("wink left", "default in 0s"),
+    ("mouth curve -0.5 in 0.3s", "default in 0s"),
+]
 
 
 class Frames:
@@ -68,6 +87,62 @@ def latencies(rospy, String, frames, commands=("skin_3", "skin_1"), count=120, g
         if frames.event.wait(2.0):
             out.append((frames.times[-1] - sent) * 1000)
         time.sleep(gap)  # the move ends (a timed look lasts 0.5 s) before the next command
+    pub.unregister()
+    return out
+
+
+def own_timing(command: str, reset: str):
+    """The statement's length, and when its own timeline first changes the picture (ms).
+
+    From the face the reset leaves; a change is one the renderer draws: the eyes or lids
+    moved a pixel, or a drawn part's key changed.
+    """
+    layers = Theme.default().layers((1024, 600))
+
+    def look(state):
+        return pose(layers, state), layers.drawn.keys(expression_of(state))
+
+    before = Animation(compile_script(parse(reset), seed=0))
+    still = look(before.sample(before.duration))
+    animation = Animation(compile_script(parse(command), seed=0))
+    steps = int(animation.duration * 1000) + 1
+    first = next((ms for ms in range(steps) if look(animation.sample(ms / 1000)) != still), None)
+    return animation.duration, first
+
+
+def settle(frames, still=0.15, limit=3.0):
+    """Wait until no frame has come for `still` seconds (at most `limit`): the face is still."""
+    start = time.monotonic()
+    time.sleep(still)
+    while time.monotonic() - start < limit:
+        last = frames.times[-1] if frames.times else 0.0
+        wait = last + still - time.monotonic()
+        if wait <= 0:
+            return
+        time.sleep(wait)
+
+
+def statement_latencies(rospy, String, frames, count=30):
+    """Milliseconds from each statement, sent to a still face, to the first frame after it.
+
+    The statements take turns, so each is measured under the same conditions.
+    """
+    pub = rospy.Publisher("/display_chatter", String, queue_size=10)
+    time.sleep(1.0)
+    lengths = {command: own_timing(command, reset)[0] for command, reset in STATEMENTS}
+    out = {command: [] for command, _ in STATEMENTS}
+    for _ in range(count):
+        for command, reset in STATEMENTS:
+            pub.publish(String(reset))
+            settle(frames)
+            frames.event.clear()
+            seen = len(frames.times)
+            sent = time.monotonic()
+            pub.publish(String(command))
+            if frames.event.wait(2.0) and len(frames.times) > seen:
+                out[command].append((frames.times[seen] - sent) * 1000)
+            time.sleep(max(0.0, sent + lengths[command] - time.monotonic()))
+            settle(frames)
     pub.unregister()
     return out
 
@@ -136,6 +211,7 @@ def main() -> None:
         # A jump shows at once; a timed move (0.5 s) must show its first motion as soon.
         jumps = latencies(rospy, String, frames, ("look_60_0_0", "look_-60_0_0"), count=60, gap=0.3)
         moves = latencies(rospy, String, frames, ("look_60_0", "look_-60_0"), count=60, gap=0.8)
+        statements = statement_latencies(rospy, String, frames)
 
         chatter = rospy.Publisher("/display_chatter", String, queue_size=10)
         time.sleep(0.5)
@@ -185,6 +261,19 @@ def main() -> None:
             f"  {name:<24} median {statistics.median(values):6.1f}  max {max(values):6.1f}  "
             f"({len(values)} answered)"
         )
+    print("the continuous face: a statement sent to a still default face -> its first changed frame (ms)")
+    print(f"  {'statement':<26} {'p50':>6} {'p95':>6} {'max':>6}  its own first change  p50 after that")
+    for command, reset in STATEMENTS:
+        values, own = statements[command], own_timing(command, reset)[1]
+        if not values or own is None:
+            print(f"  {command:<26} {len(values)} answered; its own first change: {own} ms")
+            continue
+        print(
+            f"  {command:<26} {statistics.median(values):6.1f} {percentile(values, 95):6.1f} "
+            f"{max(values):6.1f}  {own:6d} ms {'':>12} {statistics.median(values) - own:6.1f}  "
+            f"({len(values)} answered)"
+        )
+    print(f"  (ROS's floor above: median {statistics.median(floor):.1f} ms)")
     print(f"30 fps look animation reaching a subscriber: {look_fps:.1f} frames/s")
     rate, gap, before, after, exit_s = flood
     print(f"flood of good, bad and maximum-size commands for 10 s: {rate:.0f} commands/s absorbed")

@@ -46,7 +46,8 @@ class Original:
         at = pose(self.layers, state)
         img = self.background.copy()
         img.paste(self.eyes, (at.eye_dx, at.eye_dy), self.eyes)
-        img.paste(self.lids, (0, at.lid_dy), self.lids)
+        # The original moved its one lids layer by one offset: every lid's, as no eye winks here.
+        img.paste(self.lids, (0, at.lid_dy[0]), self.lids)
         for key in (("skin", str(state.skin)), ("mouth", state.mouth), ("brows", state.brows)):
             layer = self.parts[key]
             img.paste(layer, (0, 0), layer)

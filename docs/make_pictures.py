@@ -4,7 +4,11 @@
 
 Run it again after the theme or the renderer changes what a face looks like,
 or the speech or its mouth shapes change. lipsync.png speaks, so it needs
-espeak-ng (apt install espeak-ng).
+espeak-ng (apt install espeak-ng). One picture alone:
+
+    python -c "import make_pictures as m; m.save_sheet(m.mood_plane(), m.OUT / 'mood.png')"
+
+from docs/.
 """
 
 from __future__ import annotations
@@ -17,6 +21,7 @@ import numpy as np
 from PIL import Image, ImageDraw, ImageFont
 
 from baxterface_cli import Face, parse
+from baxterface_cli.core.presets import mood_weights
 from baxterface_cli.core.tables import EMOTIONS, REST, viseme_mouth
 from baxterface_cli.drawing.renderer import Renderer
 from baxterface_cli.drawing.theme import Theme
@@ -127,6 +132,143 @@ def speech_mouths() -> Image.Image:
         cells.append((f"speak-{shape}: {sounds}", face.image().crop(box)))
     cells.append(("smile: at rest", Face().image().crop(box)))
     return sheet(cells, columns=4)
+
+
+SMALL = (224, 131)  # the robot's face at 7/32: for sheets of many faces
+INTENSITIES = (0.33, 0.67, 1.0)
+MOODS = (-1.0, -0.5, 0.0, 0.5, 1.0)  # valence across, arousal up
+
+
+def small(image: Image.Image) -> Image.Image:
+    return image.resize(SMALL, Image.LANCZOS)
+
+
+def upright(text: str, text_font: ImageFont.ImageFont) -> Image.Image:
+    """A label turned to read upwards, for a vertical axis."""
+    probe = ImageDraw.Draw(Image.new("RGB", (1, 1)))
+    width = int(probe.textlength(text, font=text_font)) + 4
+    label = Image.new("RGB", (width, 24), PAPER)
+    ImageDraw.Draw(label).text((2, 2), text, fill=INK, font=text_font)
+    return label.rotate(90, expand=True)
+
+
+def labelled_grid(
+    rows: List[Tuple[str, List[Tuple[str, Image.Image]]]],
+    columns: List[str],
+    row_title: str = "",
+    column_title: str = "",
+    label_w: int = 110,
+) -> Image.Image:
+    """Faces in rows and columns: a label left of each row, a heading over each column, and an
+    optional caption under each face; `row_title` runs up the left, `column_title` along the top."""
+    big, little = font(18), font(14)
+    captioned = any(caption for _, cells in rows for caption, _ in cells)
+    cell_w, cell_h = SMALL[0] + GAP // 2, SMALL[1] + (22 if captioned else GAP // 2)
+    side = 28 if row_title else 0
+    top = (28 if column_title else 0) + 26
+    out = Image.new(
+        "RGB", (side + label_w + len(columns) * cell_w + GAP, top + len(rows) * cell_h + GAP), PAPER
+    )
+    draw = ImageDraw.Draw(out)
+    x0 = side + label_w
+    if column_title:
+        left = x0 + (len(columns) * cell_w - draw.textlength(column_title, font=big)) / 2
+        draw.text((left, 4), column_title, fill=INK, font=big)
+    for c, heading in enumerate(columns):
+        left = x0 + c * cell_w + (SMALL[0] - draw.textlength(heading, font=big)) / 2
+        draw.text((left, top - 24), heading, fill=INK, font=big)
+    if row_title:
+        title = upright(row_title, big)
+        out.paste(title, (2, top + (len(rows) * cell_h - title.height) // 2))
+    for r, (label, cells) in enumerate(rows):
+        y = top + r * cell_h
+        draw.text(
+            (side + label_w - 8 - draw.textlength(label, font=big), y + SMALL[1] // 2 - 10),
+            label,
+            fill=INK,
+            font=big,
+        )
+        for c, (caption, picture) in enumerate(cells):
+            x = x0 + c * cell_w
+            out.paste(picture, (x, y))
+            if caption:
+                left = x + (SMALL[0] - draw.textlength(caption, font=little)) / 2
+                draw.text((left, y + SMALL[1] + 3), caption, fill=INK, font=little)
+    return out
+
+
+def side_by_side(*images: Image.Image) -> Image.Image:
+    out = Image.new(
+        "RGB", (sum(i.width for i in images) + GAP * (len(images) - 1), max(i.height for i in images)), PAPER
+    )
+    x = 0
+    for image in images:
+        out.paste(image, (x, 0))
+        x += image.width + GAP
+    return out
+
+
+def intensities() -> Image.Image:
+    """Every emotion at three intensities, variant 0: `face.set_emotion_intensity(name, x)`."""
+    rows = []
+    for name in EMOTIONS:
+        cells = []
+        for intensity in INTENSITIES:
+            face = Face()
+            face.set_emotion_intensity(name, intensity, variant=0)
+            cells.append(("", small(face.image())))
+        rows.append((name, cells))
+    headings = [f"{x:g}" for x in INTENSITIES]
+    half = (len(rows) + 1) // 2
+    return side_by_side(
+        *(labelled_grid(part, headings, column_title="intensity") for part in (rows[:half], rows[half:]))
+    )
+
+
+def blend_words(weights: Tuple[Tuple[str, float], ...]) -> str:
+    """A blend as a script writes it: `happy 0.52 + wake_up 0.48`."""
+    return " + ".join(f"{name.replace(' ', '_')} {weight:.2f}" for name, weight in weights) or "default"
+
+
+def mood_plane() -> Image.Image:
+    """`face.set_mood(valence, arousal)` over the plane, each face captioned with the blend it is."""
+    rows = []
+    for arousal in reversed(MOODS):
+        cells = []
+        for valence in MOODS:
+            face = Face()
+            face.set_mood(valence, arousal)
+            cells.append((blend_words(mood_weights(valence, arousal)), small(face.image())))
+        rows.append((f"{arousal:g}", cells))
+    return labelled_grid(
+        rows,
+        [f"{v:g}" for v in MOODS],
+        row_title="arousal: calm (-1) to excited (1)",
+        column_title="valence: unpleasant (-1) to pleasant (1)",
+        label_w=50,
+    )
+
+
+def morph(script: str = "sad in 1.5s", frames: int = 6) -> Image.Image:
+    """The same change in the default theme (a morph: one mouth bending) and in a theme of
+    pictures (its exported copy: a crossfade of two mouths)."""
+    seed = next(s for s in range(50) if compile_script(parse(script), seed=s).sample(9.0).mouth == "sad")
+    timeline = compile_script(parse(script), seed=seed)  # the variant with the frown
+    times = [timeline.duration * k / (frames - 1) for k in range(frames)]
+    with tempfile.TemporaryDirectory() as folder:
+        Theme.default().export(Path(folder) / "pictures")
+        themes = [("drawn", Theme.default()), ("pictures", Theme.load(Path(folder) / "pictures"))]
+        rows = []
+        for label, theme in themes:
+            renderer = Renderer(theme.layers((1024, 600)))
+            cells = []
+            for t in times:
+                rgb = np.ascontiguousarray(renderer.render(timeline.sample(t))[..., ::-1])
+                cells.append(("", small(Image.fromarray(rgb))))
+            rows.append((label, cells))
+    return labelled_grid(
+        rows, [f"{t:.1f} s" for t in times], column_title=f"{script}: from default", label_w=100
+    )
 
 
 LIPSYNC_TEXT = "Hello there, I am Baxter. Bob met Pam."
@@ -394,6 +536,9 @@ def main() -> None:
     save_sheet(looking(), OUT / "looking.png")
     hello().save(OUT / "hello.png", optimize=True)
     save_sheet(speech_mouths(), OUT / "speech-mouths.png")
+    save_sheet(intensities(), OUT / "intensities.png")
+    save_sheet(mood_plane(), OUT / "mood.png")
+    save_sheet(morph(), OUT / "morph.png")
     crossfade().save(OUT / "crossfade.png", optimize=True)
     sonar_walk().save(OUT / "sonar-walk.png", optimize=True)
     save_sheet(face_following(), OUT / "face-following.png")
@@ -407,6 +552,9 @@ def main() -> None:
         "looking.png",
         "hello.png",
         "speech-mouths.png",
+        "intensities.png",
+        "mood.png",
+        "morph.png",
         "crossfade.png",
         "sonar-walk.png",
         "face-following.png",

@@ -224,3 +224,28 @@ def test_the_python_examples_are_found():
     docs = {e.doc for e in python_examples()}
     assert {"README.md", "api.md", "language.md", "speech.md", "themes.md"} <= docs
     assert sum(1 for e in python_examples() if e.expected) >= 3
+
+
+def test_the_languages_table_of_controls_is_the_controls_table():
+    from baxterface_cli.core.expression import CONTROLS
+    from baxterface_cli.core.presets import DEFAULT_FACE
+
+    text = (ROOT / "docs" / "language.md").read_text(encoding="utf-8")
+    rows = [line for line in text.splitlines() if line.startswith("| `") and "Expression" not in line]
+    shown = {}
+    for row in rows:
+        cells = [c.strip() for c in re.split(r"(?<!\\)\|", row.strip("|"))]
+        if len(cells) == 5 and "to" in cells[1]:
+            shown[cells[0]] = cells[1:]
+    assert len(shown) == len(CONTROLS)
+    for (part, control), spec in CONTROLS.items():
+        optional = "[left\\|right]" if len(spec.sides) > 1 else ""
+        side = optional if "" in spec.sides else "left\\|right"
+        name = "`" + " ".join(w for w in (part, side, control) if w) + "`"
+        low_high, default, meaning, fields = shown[name]
+        assert low_high == f"{spec.low:g} to {spec.high:g}", name
+        first = spec.sides.get("", spec.sides.get("left"))[0]
+        assert float(default) == pytest.approx(getattr(DEFAULT_FACE, first), abs=0.005), name
+        assert meaning == spec.meaning, name
+        every = sorted({f for group in spec.sides.values() for f in group})
+        assert sorted(f.strip("` ") for f in fields.split(",")) == every, name

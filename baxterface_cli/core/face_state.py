@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
-from typing import Any, Dict, NamedTuple, Optional
+from typing import Any, Dict, NamedTuple, Optional, Tuple
+
+from .expression import Expression
 
 
 class Parts(NamedTuple):
@@ -19,7 +21,8 @@ class FaceState:
     """Everything a frame depends on, plus the head pan the robot shows.
 
     Eye coordinates are pixels of the 1024x600 face (x right, y down), eyelid
-    openness runs from 0 (closed) to 1 (open). During a crossfade, `fade_from`
+    openness runs from 0 (closed) to 1 (open), for both eyes (`expression` may give each eye a
+    share of it). During a crossfade, `fade_from`
     holds the parts being left and `fade` how far the change has gone (0..1).
     `emotion` names the emotion the face shows from the moment it was asked
     for (its lids move first, its parts follow).
@@ -35,6 +38,10 @@ class FaceState:
     fade_from: Optional[Parts] = None
     fade: float = 1.0
     emotion: Optional[str] = None  # the emotion last asked for, if any: a label, not drawn
+    # The shape the default theme draws (core/expression.py). None: the named parts' presets,
+    # crossfaded as `fade` says; themes of pictures show the named parts either way.
+    expression: Optional[Expression] = None
+    mood: Tuple[float, float] = (0.0, 0.0)  # (valence, arousal) of the last `mood`: the idle life's pace
 
     @property
     def parts(self) -> Parts:
@@ -60,4 +67,6 @@ class FaceState:
             "fade_from": list(self.fade_from) if self.fade_from else None,
             "fade": round(self.fade, 4),
             "emotion": self.emotion,
+            "expression": None if self.expression is None else self.expression.as_record(),
+            "mood": [round(v, 4) for v in self.mood],
         }

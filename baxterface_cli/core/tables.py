@@ -112,6 +112,11 @@ class Timing(NamedTuple):
     blink_close: float = 0.3
     blink_open: float = 0.2
     nod: float = 1.0
+    wink_close: float = 0.15
+    wink_hold: float = 0.25
+    wink_open: float = 0.2
+    mood: float = 1.0
+    adjust: float = 0.3  # a control of the expression: `mouth curve 0.5`
 
 
 TIMING = Timing()

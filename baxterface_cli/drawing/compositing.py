@@ -123,3 +123,19 @@ def finish(
         return under.astype(np.uint8)
     np.copyto(out, under, casting="unsafe")
     return out
+
+
+def alike_rows(sprite: Sprite) -> Tuple[int, int]:
+    """The longest run of identical rows: a lid's flat upper part."""
+    same = np.all(sprite.rgb_a[1:] == sprite.rgb_a[:-1], axis=(1, 2)) & np.all(
+        sprite.inv[1:] == sprite.inv[:-1], axis=(1, 2)
+    )
+    best, start = (0, 1), None
+    for i, alike in enumerate(list(same) + [False]):
+        if alike and start is None:
+            start = i
+        elif not alike and start is not None:
+            if i + 1 - start > best[1] - best[0]:
+                best = (start, i + 1)
+            start = None
+    return best

@@ -12,13 +12,25 @@ from __future__ import annotations
 import math
 import random
 from pathlib import Path
-from typing import List, Optional, Tuple, Union
+from typing import List, Mapping, Optional, Tuple, Union
 
 import numpy as np
 from PIL import Image
 
+from ..core.expression import Expression, with_fields
 from ..core.face_state import FaceState
 from ..core.geometry import clamp_pan, clamp_to_ellipse
+from ..core.presets import (
+    FACE_FIELDS,
+    PART_FIELDS,
+    blend,
+    blend_lids,
+    emotion_preset,
+    expression_of,
+    from_parts,
+    mood_weights,
+    nearest_parts,
+)
 from ..core.tables import BROWS, EMOTIONS, MOUTHS, SKINS
 from ..language.diagnostics import did_you_mean
 from .renderer import Renderer
@@ -30,7 +42,11 @@ def emotion_state(state: FaceState, name: str, variant: int) -> FaceState:
     """`state` showing emotion `name` with its `variant`-th (mouth, brows) pair."""
     spec = EMOTIONS[name]
     mouth, brows = spec.variants[variant]
-    return state.replace(skin=spec.skin, mouth=mouth, brows=brows, eyelids=spec.eyelids, fade_from=None)
+    state = state.replace(skin=spec.skin, mouth=mouth, brows=brows, eyelids=spec.eyelids, fade_from=None)
+    if state.expression is None:
+        return state
+    # Drawn from numbers already (a mood, a wink): the emotion's numbers, the winks kept.
+    return state.replace(expression=with_fields(state.expression, from_parts(state.parts), FACE_FIELDS))
 
 
 def emotion_variants(name: str) -> List[Tuple[str, str]]:
@@ -106,13 +122,79 @@ class Face:
     def set_skin(self, index: int) -> None:
         if isinstance(index, bool) or index not in SKINS:
             raise ValueError(f"skin must be from {min(SKINS)} to {max(SKINS)}, not {index}")
-        self.state = self.state.replace(skin=int(index))
+        self._set_parts(skin=int(index))
 
     def set_mouth(self, name: str) -> None:
-        self.state = self.state.replace(mouth=_check(name, MOUTHS, "mouth"))
+        self._set_parts(mouth=_check(name, MOUTHS, "mouth"))
 
     def set_brows(self, name: str) -> None:
-        self.state = self.state.replace(brows=_check(name, BROWS, "brows"))
+        self._set_parts(brows=_check(name, BROWS, "brows"))
+
+    def _set_parts(self, **parts: object) -> None:
+        state = self.state.replace(**parts)
+        if self.state.expression is not None:  # the numbers follow the named part, the rest kept
+            fields = [f for part in parts for f in PART_FIELDS[part]]
+            shown = with_fields(self.state.expression, from_parts(state.parts), fields)
+            state = state.replace(expression=shown)
+        self.state = state
+
+    # -- the continuous face
+
+    @property
+    def expression(self) -> Expression:
+        """The numbers the face is drawn from (core/expression.py), whatever set them."""
+        return expression_of(self.state)
+
+    def set_expression(self, expression: Optional[Expression] = None, **numbers: float) -> None:
+        """Draw the face from these numbers: an `Expression`, and/or fields of one by name
+        (`set_expression(mouth_curve=-0.5, brow_left_angle=0.6)` changes those, keeps the rest).
+        Themes of pictures show the nearest named parts."""
+        unknown = sorted(set(numbers) - set(Expression._fields))
+        if unknown:
+            raise ValueError(
+                f"unknown expression number {unknown[0]!r}{did_you_mean(unknown[0], Expression._fields)}"
+            )
+        shown = (expression or self.expression)._replace(**{k: _finite(v, k) for k, v in numbers.items()})
+        self.state = self.state.with_parts(nearest_parts(shown)).replace(expression=shown, fade_from=None)
+
+    def blend(self, weights: Mapping[str, float], variant: int = 0) -> None:
+        """Show emotions at intensities, blended: `face.blend({"happy": 0.6, "confused": 0.4})`.
+        One emotion at weight w is that emotion at intensity w; weight 0 is the default face."""
+        named = []
+        for name, weight in weights.items():
+            key = _check(name.replace("_", " "), tuple(EMOTIONS), "emotion")
+            if not 0.0 <= _finite(weight, f"{key}'s weight") <= 1.0:
+                raise ValueError(f"a weight must be from 0 to 1, not {weight}")
+            named.append((key, float(weight)))
+        if sum(w for _, w in named) > 1.0 + 1e-9:
+            raise ValueError("the weights of a blend add up to at most 1")
+        presets = [(emotion_preset(k, min(variant, len(EMOTIONS[k].variants) - 1)), w) for k, w in named]
+        shown = blend(presets)._replace(
+            lid_left=self.expression.lid_left, lid_right=self.expression.lid_right
+        )
+        label = max(named, key=lambda w: w[1])[0] if named else "default"
+        self.state = self.state.replace(eyelids=blend_lids(tuple(named)), emotion=label)
+        self.set_expression(shown)
+
+    def set_emotion_intensity(self, name: str, intensity: float, variant: int = 0) -> None:
+        """An emotion part of the way from the default face: 1 is `set_emotion`, 0 `default`."""
+        self.blend({name: intensity}, variant)
+
+    def set_mood(self, valence: float, arousal: float, variant: int = 0) -> None:
+        """A place on the mood circle, each -1..1: the two nearest emotions blended, stronger
+        toward the edge (see docs/language.md, "Mood")."""
+        for value, what in ((valence, "valence"), (arousal, "arousal")):
+            if not -1.0 <= _finite(value, what) <= 1.0:
+                raise ValueError(f"{what} must be from -1 to 1, not {value}")
+        self.blend(dict(mood_weights(float(valence), float(arousal))) or {"default": 1.0}, variant)
+        self.state = self.state.replace(mood=(float(valence), float(arousal)))
+
+    def wink(self, side: Optional[str] = "left") -> None:
+        """Shut one eye, the robot's `left` (the viewer's right) or `right`; None opens both."""
+        if side is None:
+            self.set_expression(lid_left=1.0, lid_right=1.0)
+            return
+        self.set_expression(**{f"lid_{_check(side, ('left', 'right'), 'side')}": 0.0})
 
     # -- drawing
 

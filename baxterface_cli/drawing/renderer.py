@@ -17,16 +17,19 @@ from __future__ import annotations
 
 import math
 from collections import OrderedDict
-from typing import Dict, List, NamedTuple, Optional, Tuple
+from typing import Any, List, NamedTuple, Optional, Tuple
 
 import numpy as np
 
 from ..core.face_state import FaceState, Parts
 from ..core.geometry import clamp_to_ellipse
+from ..core.presets import expression_of
 from .compositing import Rect, Sprite, div255, div255_inplace, finish, intersect, lay
+from .drawn_parts import EYE_STEPS
 from .theme_fitting import ThemeLayers
 
 PARTS_KEPT = 12  # part combinations kept: every emotion's, with room to spare
+SKINS_KEPT = 8  # skins kept, each a whole screen: every named one, and some between
 
 
 class Pose(NamedTuple):
@@ -34,17 +37,50 @@ class Pose(NamedTuple):
 
     eye_dx: int
     eye_dy: int
-    lid_dy: int
+    lid_dy: Tuple[int, ...]  # one per lid sprite of the theme, as layers.lids
+    # The drawn face's pupil sizes and lid tilts, per eye left to right (DrawnParts.eye_keys);
+    # empty: the theme's own sprites.
+    pupils: Tuple[int, ...] = ()
+    tilts: Tuple[int, ...] = ()
 
 
 def pose(layers: ThemeLayers, state: FaceState) -> Pose:
-    """Screen offsets for a state: eyes clamped to their ellipse, lids to 0..1."""
+    """Screen offsets for a state: eyes clamped to their ellipse, each lid to 0..1."""
     # A state is plain data anyone can build: a number that is not finite
     # draws as the rest position rather than failing.
     x, y = clamp_to_ellipse(*(v if math.isfinite(v) else 0.0 for v in (state.eye_x, state.eye_y)))
-    openness = min(1.0, max(0.0, state.eyelids)) if math.isfinite(state.eyelids) else 1.0
+    openness = _unit(state.eyelids)
+    shape = state.expression
+    share = (1.0, 1.0) if shape is None else (_unit(shape.lid_right), _unit(shape.lid_left))
+    middle = layers.size[0] / 2
     s = layers.scale
-    return Pose(_round(x * s), _round(y * s), -_round(layers.lid_travel * openness))
+    # The lid left of the screen's middle is the robot's right eye's.
+    lids = tuple(
+        -_round(layers.lid_travel * openness * share[0 if lid.x + lid.width / 2 < middle else 1])
+        for lid in layers.lids
+    )
+    if layers.drawn is None or shape is None or len(layers.eyes) != 2 or len(layers.lids) != 2:
+        return Pose(_round(x * s), _round(y * s), lids)
+    pupils, tilts = layers.drawn.eye_keys(shape)
+    return Pose(_round(x * s), _round(y * s), lids, pupils, tilts)
+
+
+def eye_sprite(layers: ThemeLayers, at: Pose, i: int) -> Sprite:
+    """Eye i's pupil as `at` draws it: the theme's, or the drawn face's at another size."""
+    if not at.pupils or at.pupils[i] == EYE_STEPS:
+        return layers.eyes[i]
+    return layers.drawn.pupil(i, at.pupils[i])  # type: ignore[union-attr]
+
+
+def lid_sprite(layers: ThemeLayers, at: Pose, i: int) -> Tuple[Sprite, Tuple[int, int]]:
+    """Lid i as `at` draws it, with its band of alike rows: the theme's, or a tilted one."""
+    if not at.tilts or at.tilts[i] == 0:
+        return layers.lids[i], layers.lid_bands[i]
+    return layers.drawn.lid(i, at.tilts[i])  # type: ignore[union-attr]
+
+
+def _unit(v: float) -> float:
+    return min(1.0, max(0.0, v)) if math.isfinite(v) else 1.0
 
 
 def _round(v: float) -> int:
@@ -109,16 +145,19 @@ def bottom_stack(layers: ThemeLayers, at: Pose, rect: Rect) -> np.ndarray:
     """Background, pupils and lids over `rect`, as uint16 colour."""
     x0, y0, x1, y1 = rect
     under = layers.background[y0:y1, x0:x1].astype(np.uint16)
-    for eye in layers.eyes:
-        lay(under, rect, eye, at.eye_dx, at.eye_dy)
-    for lid in layers.lids:
-        lay(under, rect, lid, 0, at.lid_dy)
+    for i in range(len(layers.eyes)):
+        lay(under, rect, eye_sprite(layers, at, i), at.eye_dx, at.eye_dy)
+    for i, dy in enumerate(at.lid_dy):
+        lay(under, rect, lid_sprite(layers, at, i)[0], 0, dy)
     return under
 
 
 def compose(layers: ThemeLayers, state: FaceState) -> np.ndarray:
     """The plain full recomposite: every layer, every pixel, nothing kept."""
     full = (0, 0) + layers.size
+    if layers.drawn is not None:  # a drawn face morphs its numbers: no frames to crossfade
+        top = top_stack(layers, layers.drawn.keys(expression_of(state)))
+        return finish(top.prem, top.inv, bottom_stack(layers, pose(layers, state), full))
 
     def frame(parts: Parts) -> np.ndarray:
         top = top_stack(layers, parts)  # every layer from scratch
@@ -204,15 +243,31 @@ class Renderer:
     def __init__(self, layers: ThemeLayers) -> None:
         self.layers = layers
         self._canvases: OrderedDict[Parts, _Canvas] = OrderedDict()
-        self._skins: Dict[int, Tuple[TopStack, List[Rect]]] = {}
+        self._skins: OrderedDict[Any, Tuple[TopStack, List[Rect]]] = OrderedDict()
         self._mix: Optional[np.ndarray] = None
 
     @property
     def size(self) -> Tuple[int, int]:
         return self.layers.size
 
+    def frame_key(self, state: FaceState) -> Any:
+        """A value equal for two states exactly when their frames are the same: a sink that
+        sends only changed frames compares these instead of drawing."""
+        at = pose(self.layers, state)
+        if self.layers.drawn is not None:
+            return (at, self.layers.drawn.keys(expression_of(state)))
+        fading = state.fade_from is not None and state.fade < 1.0
+        return (
+            at,
+            state.parts,
+            state.fade_from if fading else None,
+            int(state.fade * 255 + 0.5) if fading else 255,
+        )
+
     def render(self, state: FaceState) -> np.ndarray:
         at = pose(self.layers, state)
+        if self.layers.drawn is not None:
+            return self._draw(self.layers.drawn.keys(expression_of(state)), at)
         if state.fade_from is None or state.fade >= 1.0:
             return self._draw(state.parts, at)
         if state.fade <= 0.0:
@@ -245,6 +300,9 @@ class Renderer:
             if parts.skin not in self._skins:
                 skin = skin_stack(self.layers, parts.skin)
                 self._skins[parts.skin] = (skin, socket_boxes(skin.inv))
+                while len(self._skins) > SKINS_KEPT:
+                    self._skins.popitem(last=False)
+            self._skins.move_to_end(parts.skin)
             canvas = _Canvas(self.layers, parts, at, *self._skins[parts.skin])
             self._canvases[parts] = canvas
             while len(self._canvases) > PARTS_KEPT:
@@ -269,13 +327,20 @@ class Renderer:
     def _changed(self, old: Pose, new: Pose) -> List[Rect]:
         """Rectangles outside which a move from `old` to `new` changes no pixel."""
         rects: List[Rect] = []
-        if (old.eye_dx, old.eye_dy) != (new.eye_dx, new.eye_dy):
-            for eye in self.layers.eyes:
-                a, b = eye.rect(old.eye_dx, old.eye_dy), eye.rect(new.eye_dx, new.eye_dy)
+        moved = (old.eye_dx, old.eye_dy) != (new.eye_dx, new.eye_dy)
+        for i in range(len(self.layers.eyes)):
+            before, after = eye_sprite(self.layers, old, i), eye_sprite(self.layers, new, i)
+            if moved or before is not after:
+                a, b = before.rect(old.eye_dx, old.eye_dy), after.rect(new.eye_dx, new.eye_dy)
                 rects.append((min(a[0], b[0]), min(a[1], b[1]), max(a[2], b[2]), max(a[3], b[3])))
-        if old.lid_dy != new.lid_dy:
-            low, high = sorted((old.lid_dy, new.lid_dy))
-            for lid, (a, b) in zip(self.layers.lids, self.layers.lid_bands):
+        for i, (was, now) in enumerate(zip(old.lid_dy, new.lid_dy)):
+            before, _ = lid_sprite(self.layers, old, i)
+            lid, (a, b) = lid_sprite(self.layers, new, i)
+            if before is not lid:  # another lid: wherever either reaches
+                p, q = before.rect(0, was), lid.rect(0, now)
+                rects.append((min(p[0], q[0]), min(p[1], q[1]), max(p[2], q[2]), max(p[3], q[3])))
+            elif was != now:
+                low, high = sorted((was, now))
                 # Rows inside the lid's band of identical rows, at both offsets,
                 # show the same colours: only the two stretches outside change.
                 top, bottom = lid.y + high + a, lid.y + low + b

@@ -19,6 +19,7 @@ from typing import Dict, List, Optional, Union
 from ..core.partial_files import remove_stale, write_atomic
 from ..resources import resource
 from . import artwork
+from .drawn_parts import DrawnParts
 from .theme_fitting import ThemeLayers, _prepare, _resample
 from .theme_manifest import (
     MANIFEST,
@@ -121,6 +122,9 @@ class Theme:
             self._fitted.move_to_end(size)
             return self._fitted[size]
         fitted = _prepare(self.placed_at(size), size, self.lid_travel)
+        if self.builtin:
+            drawn = DrawnParts(size, fitted.skins, fitted.mouths, fitted.brows)
+            fitted = fitted._replace(skins=drawn.skins, mouths=drawn.mouths, brows=drawn.brows, drawn=drawn)
         self._fitted[size] = fitted
         while len(self._fitted) > 2:
             self._fitted.popitem(last=False)

@@ -3,14 +3,17 @@
 from __future__ import annotations
 
 import math
-from typing import Dict, List, NamedTuple, Tuple
+from typing import TYPE_CHECKING, Dict, List, NamedTuple, Optional, Tuple
 
 import numpy as np
 from PIL import Image
 
 from . import artwork
-from .compositing import Sprite, split_columns, sprite_from_rgba
+from .compositing import Sprite, alike_rows, split_columns, sprite_from_rgba
 from .theme_manifest import FULL_SCREEN_KINDS, OPTIONAL, Key, Placed, Size
+
+if TYPE_CHECKING:
+    from .drawn_parts import DrawnParts
 
 
 class ThemeLayers(NamedTuple):
@@ -26,6 +29,9 @@ class ThemeLayers(NamedTuple):
     skins: Dict[int, Sprite]
     mouths: Dict[str, Sprite]
     brows: Dict[str, Sprite]
+    # The default theme draws its parts from the expression's numbers (then skins, mouths and
+    # brows are its PartBooks); a theme of pictures has None here.
+    drawn: Optional[DrawnParts] = None
 
 
 def face_scale(size: Size) -> float:
@@ -74,22 +80,6 @@ def _sprite(placed: Placed, size: Size) -> Sprite:
     return sprite
 
 
-def _alike_rows(sprite: Sprite) -> Tuple[int, int]:
-    """The longest run of identical rows: a lid's flat upper part."""
-    same = np.all(sprite.rgb_a[1:] == sprite.rgb_a[:-1], axis=(1, 2)) & np.all(
-        sprite.inv[1:] == sprite.inv[:-1], axis=(1, 2)
-    )
-    best, start = (0, 1), None
-    for i, alike in enumerate(list(same) + [False]):
-        if alike and start is None:
-            start = i
-        elif not alike and start is not None:
-            if i + 1 - start > best[1] - best[0]:
-                best = (start, i + 1)
-            start = None
-    return best
-
-
 def _prepare(placed: Dict[Key, Placed], size: Size, lid_travel: float) -> ThemeLayers:
     scale = face_scale(size)
     background = _full_canvas(placed[("background", "background")], size)[..., 2::-1].copy()
@@ -101,7 +91,7 @@ def _prepare(placed: Dict[Key, Placed], size: Size, lid_travel: float) -> ThemeL
         background=background,
         eyes=eyes,
         lids=lids,
-        lid_bands=[_alike_rows(lid) for lid in lids],
+        lid_bands=[alike_rows(lid) for lid in lids],
         lid_travel=int(math.floor(lid_travel * scale + 0.5)),
         skins={int(n): _sprite(p, size) for (k, n), p in placed.items() if k == "skin"},
         mouths=_with_stand_ins({n: _sprite(p, size) for (k, n), p in placed.items() if k == "mouth"}),

@@ -21,16 +21,27 @@ Point = Tuple[float, float]
 
 
 class Canvas:
-    """A layer being drawn: premultiplied RGBA floats at screen size."""
+    """A layer being drawn: premultiplied RGBA floats at screen size.
 
-    def __init__(self, size: Tuple[int, int]) -> None:
+    With `window` (face units: x0, y0, x1, y1), only that part of the screen is kept: a part
+    drawn while the face moves costs its own size, not the screen's. `corner` is then where
+    the kept part sits on the screen.
+    """
+
+    def __init__(self, size: Tuple[int, int], window: Optional[Sequence[float]] = None) -> None:
         self.width, self.height = size
         self.scale = min(self.width / FACE_SIZE[0], self.height / FACE_SIZE[1])
         self.origin = (
             (self.width - FACE_SIZE[0] * self.scale) / 2.0,
             (self.height - FACE_SIZE[1] * self.scale) / 2.0,
         )
-        self.rgba = np.zeros((self.height, self.width, 4), np.float32)
+        self.corner, self.limit = (0, 0), (self.width, self.height)
+        if window is not None:
+            (sx0, sy0), (sx1, sy1) = self.to_screen(*window[:2]), self.to_screen(*window[2:])
+            self.corner = (max(0, int(math.floor(sx0))), max(0, int(math.floor(sy0))))
+            self.limit = (min(self.width, int(math.ceil(sx1))), min(self.height, int(math.ceil(sy1))))
+        w, h = max(0, self.limit[0] - self.corner[0]), max(0, self.limit[1] - self.corner[1])
+        self.rgba = np.zeros((h, w, 4), np.float32)
 
     def to_screen(self, x: float, y: float) -> Point:
         return self.origin[0] + x * self.scale, self.origin[1] + y * self.scale
@@ -42,7 +53,8 @@ class Canvas:
         x0, y0, x1, y1 = box
         a = coverage[..., None] * opacity
         src = np.array([*color, 255], np.float32) / 255.0
-        region = self.rgba[y0:y1, x0:x1]
+        cx, cy = self.corner
+        region = self.rgba[y0 - cy : y1 - cy, x0 - cx : x1 - cx]
         region *= 1.0 - a
         region += src * a
 
@@ -61,8 +73,9 @@ class Canvas:
         fx0, fy0, fx1, fy1 = bounds
         sx0, sy0 = self.to_screen(fx0, fy0)
         sx1, sy1 = self.to_screen(fx1, fy1)
-        x0, y0 = max(0, int(math.floor(sx0)) - 1), max(0, int(math.floor(sy0)) - 1)
-        x1, y1 = min(self.width, int(math.ceil(sx1)) + 1), min(self.height, int(math.ceil(sy1)) + 1)
+        x0 = max(self.corner[0], int(math.floor(sx0)) - 1)
+        y0 = max(self.corner[1], int(math.floor(sy0)) - 1)
+        x1, y1 = min(self.limit[0], int(math.ceil(sx1)) + 1), min(self.limit[1], int(math.ceil(sy1)) + 1)
         if x1 <= x0 or y1 <= y0:
             return
         k = SUPERSAMPLE

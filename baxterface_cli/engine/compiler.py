@@ -13,13 +13,26 @@ from __future__ import annotations
 import random
 from typing import TYPE_CHECKING, Any, Callable, Dict, List, NamedTuple, Optional, Sequence, Tuple
 
-from ..core.face_state import FaceState
+from ..core.expression import BROW_FIELDS, CONTROLS, Expression, with_fields
+from ..core.face_state import FaceState, Parts
 from ..core.geometry import clamp_pan, clamp_to_ellipse, dynamic_look, to_radians
+from ..core.presets import (
+    FACE_FIELDS,
+    PART_FIELDS,
+    blend,
+    blend_lids,
+    expression_of,
+    from_parts,
+    mood_weights,
+    nearest_parts,
+)
 from ..core.tables import EMOTIONS, HEAD_SPEED_RATIO, HEAD_TOP_SPEED, TIMING
 from ..language import syntax_tree as n
 from ..language.durations import move_seconds, statement_seconds
 from . import effects as fx
 from .effects import Cue
+from .shape_tracks import ShapeTracks
+from .statement_words import describe
 from .timeline import CROSSFADE, PartsChange, Said, Span, Speaker, Timeline, Track
 
 if TYPE_CHECKING:
@@ -46,6 +59,8 @@ class _Compiler:
         self.eyes = Track((start.eye_x, start.eye_y))
         self.lids = Track(start.eyelids)
         self.head = Track(start.head_pan)
+        self.shape = ShapeTracks(expression_of(start))
+        self.moods: List[Tuple[float, float, float]] = []
         self.parts: List[PartsChange] = []
         self.emotions: List[Tuple[float, str]] = []
         self.cues: List[Cue] = []
@@ -101,6 +116,91 @@ class _Compiler:
         self.change_parts(end, skin=spec.skin, mouth=mouth, brows=brows)
         return end
 
+    def do_feeling(self, s: n.Feeling, t: float) -> float:
+        self.express(s.weights, s.timing.duration, s.timing.easing, t, statement_seconds(s))
+        return t + statement_seconds(s)
+
+    def do_mood(self, s: n.Mood, t: float) -> float:
+        duration = move_seconds(s)
+        weights = mood_weights(s.valence, s.arousal) or (("default", 1.0),)
+        self.later(t, lambda at: self.moods.append((at, s.valence, s.arousal)))
+        self.express(weights, duration, s.timing.easing, t, duration)
+        return t + duration
+
+    def express(
+        self,
+        weights: Sequence[Tuple[str, float]],
+        duration: Optional[float],
+        easing: str,
+        t: float,
+        lids: float,
+    ) -> None:
+        """Morph to a blend of emotions: over `duration`, or (None) lids first, then the rest."""
+        presets = []
+        for name, weight in weights:
+            spec = EMOTIONS[name]
+            mouth, brows = self.rng.choice(spec.variants)
+            presets.append((from_parts(Parts(spec.skin, mouth, brows)), weight))
+        target = blend(presets)
+        label = max(weights, key=lambda w: w[1])[0]
+
+        def lids_first(at: float) -> None:
+            self.emotions.append((at, label))
+            self.lids.move(at, lids, blend_lids(tuple(weights)), easing if duration is not None else "linear")
+
+        self.later(t, lids_first)
+        if duration is None:
+            self.change_shape(t + lids, target, FACE_FIELDS)
+        else:
+            self.change_shape(t, target, FACE_FIELDS, duration, easing)
+
+    def change_shape(
+        self,
+        t: float,
+        target: Expression,
+        fields: Sequence[str],
+        duration: Optional[float] = None,
+        easing: str = "linear",
+    ) -> None:
+        """Morph `fields` of the expression to `target`'s; themes of pictures crossfade to the
+        named parts nearest where the morph ends."""
+
+        def apply(at: float) -> None:
+            seconds = self.crossfade if duration is None else duration
+            goal = with_fields(self.shape.value(at), target, fields)
+            self.shape.move(at, seconds, goal, easing, fields)
+            ending = self.shape.value(at + seconds)
+            current = self.parts[-1].parts if self.parts else self.start.parts
+            nearest = nearest_parts(ending)
+            if nearest != current:
+                self.parts.append(PartsChange(at, nearest, seconds))
+
+        self.later(t, apply)
+
+    def do_wink(self, s: n.Wink, t: float) -> float:
+        field = f"lid_{s.side}"
+
+        def wink(at: float) -> None:
+            before = self.shape.value(at)
+            shut = before._replace(**{field: 0.0})
+            self.shape.move(at, TIMING.wink_close, shut, fields=(field,))
+            self.shape.move(
+                at + TIMING.wink_close + TIMING.wink_hold, TIMING.wink_open, before, fields=(field,)
+            )
+
+        self.later(t, wink)
+        return t + statement_seconds(s)
+
+    def do_adjust(self, s: n.Adjust, t: float) -> float:
+        duration = move_seconds(s)
+        fields = CONTROLS[(s.part, s.control)].sides[s.side]
+        target = Expression()._replace(**{f: s.value for f in fields})
+        if s.part in ("eyelids", "pupils"):  # the eyes: no named part to change
+            self.later(t, lambda at: self.shape.move(at, duration, target, s.timing.easing, fields))
+        else:
+            self.change_shape(t, target, fields, duration, s.timing.easing)
+        return t + duration
+
     def do_look(self, s: n.Look, t: float) -> float:
         duration, easing = move_seconds(s), s.timing.easing
         if not s.dynamic:
@@ -146,13 +246,22 @@ class _Compiler:
         return t
 
     def do_brows(self, s: n.Brows, t: float) -> float:
-        self.change_parts(t, brows=s.name)
+        if s.side:  # one brow: a shape of numbers, which themes of pictures show as the nearest pair
+            self.change_shape(t, from_parts(Parts(brows=s.name)), BROW_FIELDS[s.side])
+        else:
+            self.change_parts(t, brows=s.name)
         return t
 
     def change_parts(self, t: float, **changed: Any) -> None:
+        """Swap named parts (crossfaded in themes of pictures); the drawn face morphs to them."""
+
         def apply(at: float) -> None:
             current = self.parts[-1].parts if self.parts else self.start.parts
-            self.parts.append(PartsChange(at, current._replace(**changed), self.crossfade))
+            new = current._replace(**changed)
+            self.parts.append(PartsChange(at, new, self.crossfade))
+            fields = [f for part in changed for f in PART_FIELDS[part]]
+            goal = with_fields(self.shape.value(at), from_parts(new), fields)
+            self.shape.move(at, self.crossfade, goal, fields=fields)
 
         self.later(t, apply)
 
@@ -213,6 +322,10 @@ _HANDLERS: Dict[type, Callable[[_Compiler, Any, float], float]] = {
     n.Call: _Compiler.do_call,
     n.Define: _Compiler.do_define,
     n.Emotion: _Compiler.do_emotion,
+    n.Feeling: _Compiler.do_feeling,
+    n.Mood: _Compiler.do_mood,
+    n.Wink: _Compiler.do_wink,
+    n.Adjust: _Compiler.do_adjust,
     n.Look: _Compiler.do_look,
     n.Blink: _Compiler.do_blink,
     n.Eyelids: _Compiler.do_eyelids,
@@ -258,7 +371,7 @@ def compile_script(
     end = compiler.sequence(script.body, 0.0)
     for event in sorted(compiler.events, key=lambda e: (e.at, e.order)):
         event.apply(event.at)
-    tails = [end, compiler.eyes.end, compiler.lids.end, compiler.head.end]
+    tails = [end, compiler.eyes.end, compiler.lids.end, compiler.head.end, compiler.shape.end]
     tails += [c.at + c.fade for c in compiler.parts]
     tails += [c.at + c.effect.duration for c in compiler.cues]
     duration = max(tails)
@@ -276,6 +389,8 @@ def compile_script(
         duration,
         start or FaceState(),
         compiler.speech,
+        compiler.shape,
+        sorted(compiler.moods),
     )
 
 
@@ -284,38 +399,3 @@ def _engine_say(text: str, voice: Optional[str], rate: Optional[int]) -> Utteran
     from ..speech.synthesis import engine
 
     return engine().say(text, voice or DEFAULT_VOICE, rate or DEFAULT_RATE)
-
-
-def describe(s: Any) -> str:
-    """A statement in words, for `explain`."""
-
-    def timed(s: Any) -> str:
-        easing = s.timing.easing
-        return f" in {move_seconds(s):g}s" + ("" if easing == "linear" else f" {easing}")
-
-    if isinstance(s, n.Emotion):
-        return s.name
-    if isinstance(s, n.Look):
-        kind = "dynamic look" if s.dynamic else "look"
-        return f"{kind} {s.x:g} {s.y:g}{timed(s)}"
-    if isinstance(s, n.Wobble):
-        return f"wobble {fx.radians_and_degrees(s.angle)}{timed(s)}"
-    if isinstance(s, n.Eyelids):
-        return f"eyelids {s.openness:g}{timed(s)}"
-    if isinstance(s, n.Wait):
-        return f"wait {s.duration:g}s"
-    if isinstance(s, n.Skin):
-        return f"skin {s.index}"
-    if isinstance(s, (n.Mouth, n.Brows)):
-        return f"{type(s).__name__.lower()} {s.name}"
-    if isinstance(s, n.Say):
-        return (
-            f"say {fx.quoted(s.text)}"
-            + (f" voice {s.voice}" if s.voice else "")
-            + (f" rate {s.rate}" if s.rate else "")
-        )
-    if isinstance(s, n.Follow):
-        if s.target is None:
-            return "follow off"
-        return f"follow {s.target}" + (" dynamic" if s.dynamic else "")
-    return type(s).__name__.lower()

@@ -1,7 +1,8 @@
 """A timeline: tracks of timed changes, and the face state they give at any time t.
 
 The compiler (compiler.py) fills the tracks: eyes (x, y), lids, head pan, the
-parts, the emotion's name, speech and the robot cues. `Timeline.sample(t)`
+expression's numbers (shape_tracks.py), the named parts that themes of pictures show, the
+emotion's name, speech and the robot cues. `Timeline.sample(t)`
 is then a pure lookup.
 """
 
@@ -11,10 +12,25 @@ import bisect
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Callable, Dict, List, NamedTuple, Optional, Tuple
 
-from ..core.easing import EASINGS, Easing
+from ..core.expression import Expression
 from ..core.face_state import FaceState, Parts
+from ..core.presets import speech_mouth
 from ..core.tables import REST, viseme_mouth
 from .effects import Cue, RobotStatus, StatusFold
+from .shape_tracks import ShapeTracks
+from .tracks import Piece, Track
+
+__all__ = [
+    "CROSSFADE",
+    "PartsChange",
+    "Piece",
+    "Said",
+    "Span",
+    "Speaker",
+    "Timeline",
+    "Track",
+    "state_record",
+]
 
 if TYPE_CHECKING:
     from ..speech.synthesis import Utterance
@@ -24,69 +40,6 @@ if TYPE_CHECKING:
 Speaker = Callable[[str, Optional[str], Optional[int]], "Utterance"]
 
 CROSSFADE = 0.15  # seconds a script's part swap blends over; 0 cuts
-
-
-class Piece(NamedTuple):
-    """A track moving from `start_value` to `end_value` over [start, end).
-
-    A move interrupted at `until` holds the value its curve had reached
-    then; the curve itself is kept, so an eased move is cut, not reshaped.
-    """
-
-    start: float
-    end: float
-    start_value: Any
-    end_value: Any
-    easing: Easing  # looked up once, when the move is made: sampling only calls it
-    until: float = float("inf")
-
-    def at(self, t: float) -> Any:
-        t = min(t, self.until)
-        if t >= self.end or self.end <= self.start:
-            return self.end_value
-        progress = self.easing((t - self.start) / (self.end - self.start))
-        return _mix(self.start_value, self.end_value, progress)
-
-    @property
-    def stop(self) -> float:
-        return min(self.end, self.until)
-
-
-class Track:
-    """One animated value: held between pieces, eased within them."""
-
-    def __init__(self, initial: Any) -> None:
-        self.initial = initial
-        self.pieces: List[Piece] = []
-        self._starts: List[float] = []
-
-    def value(self, t: float) -> Any:
-        i = bisect.bisect_right(self._starts, t) - 1
-        return self.initial if i < 0 else self.pieces[i].at(t)
-
-    def move(self, start: float, duration: float, target: Any, easing: str = "linear") -> None:
-        """From wherever the track is at `start`, move to `target`; later pieces give way."""
-        current = self.value(start)
-        i = bisect.bisect_left(self._starts, start)
-        if i > 0 and self.pieces[i - 1].stop > start:  # interrupt the move under way
-            self.pieces[i - 1] = self.pieces[i - 1]._replace(until=start)
-        del self.pieces[i:], self._starts[i:]  # and drop moves queued after it
-        self.pieces.append(Piece(start, start + max(0.0, duration), current, target, EASINGS[easing]))
-        self._starts.append(start)
-
-    def busy(self, start: float, end: float) -> bool:
-        """Does any piece move the track during [start, end)?"""
-        return any(p.start < end and start < p.stop for p in self.pieces)
-
-    @property
-    def end(self) -> float:
-        return self.pieces[-1].stop if self.pieces else 0.0
-
-
-def _mix(a: Any, b: Any, u: float) -> Any:
-    if isinstance(a, tuple):
-        return tuple(x + (y - x) * u for x, y in zip(a, b))
-    return a + (b - a) * u
 
 
 class PartsChange(NamedTuple):
@@ -130,14 +83,23 @@ class Timeline:
     duration: float
     initial: FaceState
     speech: List[Said] = field(default_factory=list)  # in time order
+    shape: Optional[ShapeTracks] = None  # the expression; None: the named parts' presets
+    moods: List[Tuple[float, float, float]] = field(default_factory=list)  # (at, valence, arousal)
     _part_times: List[float] = field(default_factory=list, repr=False)
     _emotion_times: List[float] = field(default_factory=list, repr=False)
     _speech_times: List[float] = field(default_factory=list, repr=False)
+    _mood_times: List[float] = field(default_factory=list, repr=False)
 
     def __post_init__(self) -> None:
         self._part_times = [c.at for c in self.parts]
         self._emotion_times = [at for at, _ in self.emotions]
         self._speech_times = [said.at for said in self.speech]
+        self._mood_times = [at for at, _, _ in self.moods]
+
+    def mood_at(self, t: float) -> Tuple[float, float]:
+        """(valence, arousal) the script's last `mood` asked for by t; the start's before any."""
+        i = bisect.bisect_right(self._mood_times, t) - 1
+        return self.initial.mood if i < 0 else (self.moods[i][1], self.moods[i][2])
 
     def sample(self, t: float) -> FaceState:
         """The face at time t (seconds from the start): pure, the same every call."""
@@ -166,6 +128,8 @@ class Timeline:
             eyelids=self.lids.value(t),
             head_pan=self.head.value(t),
             emotion=self.emotions[i][1] if i >= 0 else self.initial.emotion,
+            expression=None if self.shape is None else self.shape.value(t),
+            mood=self.mood_at(t),
         )
         i = bisect.bisect_right(self._part_times, t) - 1
         if i < 0:
@@ -200,12 +164,20 @@ def _speaking(state: FaceState, said: Said, t: float) -> FaceState:
     A tween between two shapes uses the crossfade; during an emotion's own
     crossfade, both sides of it show the shape, and the emotion's fade wins.
     """
-    from ..speech.visemes import shape_at
+    from ..speech.visemes import coarticulated_at, shape_at
 
     shape, tween_from, progress = shape_at(said.mouth, t - said.at)
 
     def mouth(parts: Parts, name: str) -> Parts:
         return parts._replace(mouth=parts.mouth if name == REST else viseme_mouth(name))
+
+    if state.expression is not None:
+        # The drawn face's mouth moves through the shapes between two sounds, not a crossfade.
+        drawn, drawn_from, drawn_progress = coarticulated_at(said.mouth, t - said.at)
+        spoken = _spoken(state.expression, drawn)
+        if drawn_from is not None and drawn_progress < 1.0:
+            spoken = _spoken(state.expression, drawn_from).mix(spoken, drawn_progress)
+        state = state.replace(expression=spoken)
 
     now = mouth(state.parts, shape)
     if state.fade_from is not None:
@@ -215,6 +187,10 @@ def _speaking(state: FaceState, said: Said, t: float) -> FaceState:
         if before != now:
             return state.with_parts(now).replace(fade_from=before, fade=progress)
     return state.with_parts(now)
+
+
+def _spoken(expression: Expression, shape: str) -> Expression:
+    return expression if shape == REST else speech_mouth(expression, shape)
 
 
 def state_record(t: float, state: FaceState, status: RobotStatus) -> Dict[str, Any]:

@@ -16,11 +16,21 @@ from lark import Lark, Token, Transformer
 
 from ..core.easing import EASINGS
 from ..core.geometry import clamp_to_ellipse, inside_ellipse
-from ..core.tables import BROWS, DIRECTIONS, HEAD_PAN_LIMIT, LIMITS, MOUTHS, SKINS, UNITS, FollowTarget
+from ..core.tables import (
+    BROWS,
+    DIRECTIONS,
+    HEAD_PAN_LIMIT,
+    LIMITS,
+    MOUTHS,
+    SKINS,
+    UNITS,
+    FollowTarget,
+)
 from ..core.voices import RATES, known_voice, voice_names
 from ..resources import resource
 from . import syntax_tree as n
 from .diagnostics import Diagnostic, Hints, one_of
+from .expression_rules import ExpressionRules
 from .vocabulary import BARE_WORDS, LEGACY_USAGE, LEGACY_WORDS
 
 _ESCAPE = re.compile(r"\\(.)", re.S)
@@ -70,7 +80,7 @@ def _spaced_unit(text: str, at: int, word: str) -> str:
 # -- tree -> AST ---------------------------------------------------------
 
 
-class _Builder(Transformer):
+class _Builder(ExpressionRules, Transformer):
     """Builds AST nodes, recording a diagnostic for each bad value it meets."""
 
     def begin(self, text: str, line: Callable[[int], int]) -> None:
@@ -229,6 +239,8 @@ class _Builder(Transformer):
             children = children[1:]
         return n.Timing(duration, children[0] if children else "linear")
 
+    morph = timing  # `sad in 1.5s ease-in-out`: the same words as a move's timing
+
     def easing(self, children: List[Token]) -> str:
         (token,) = children
         spaced = _spaced_unit(self.text, token.start_pos, str(token))
@@ -246,23 +258,43 @@ class _Builder(Transformer):
         angle = self._angle(angle_token, at)
         return n.Wobble(angle, rest[0] if rest else n.Timing(), pos=self._pos(at))
 
-    def skin(self, children: List[Token]) -> n.Skin:
-        at, index = children
-        return n.Skin(self._skin(index), pos=self._pos(at))
+    def skin(self, children: List[Any]) -> Any:
+        if len(children) == 2:
+            at, index = children
+            return n.Skin(self._skin(index), pos=self._pos(at))
+        return self._adjust("skin", children)
+
+    def pupils(self, children: List[Any]) -> n.Adjust:
+        at, *rest = children
+        side = rest.pop(0) if not isinstance(rest[0], Token) else ""
+        return self._adjust("pupils", [at, None, *rest], side)
 
     def _skin(self, token: Token) -> int:
         return self._whole(token, "index", "a skin", min(SKINS), max(SKINS))
 
-    def mouth(self, children: List[Token]) -> n.Mouth:
-        at, name = children
-        return n.Mouth(self._known(name, MOUTHS, "mouth"), pos=self._pos(at))
+    def mouth(self, children: List[Any]) -> Any:
+        if len(children) == 2:
+            at, name = children
+            named = "smile" if self._wants_number("mouth", name) else self._known(name, MOUTHS, "mouth")
+            return n.Mouth(named, pos=self._pos(at))
+        return self._adjust("mouth", children)
 
-    def brows(self, children: List[Token]) -> n.Brows:
-        at, name = children
-        return n.Brows(self._known(name, BROWS, "brows"), pos=self._pos(at))
+    def brows(self, children: List[Any]) -> Any:
+        at, *rest = children
+        side = rest.pop(0) if isinstance(rest[0], str) and not isinstance(rest[0], Token) else ""
+        if len(rest) == 1:
+            named = "normal" if self._wants_number("brows", rest[0]) else self._known(rest[0], BROWS, "brows")
+            return n.Brows(named, side, pos=self._pos(at))
+        return self._adjust("brows", [at, *rest], side)
 
-    def eyelids(self, children: List[Any]) -> n.Eyelids:
-        at, amount, *rest = children
+    def eyelids(self, children: List[Any]) -> Any:
+        at, *rest = children
+        side = rest.pop(0) if not isinstance(rest[0], Token) else ""
+        if len(rest) > 1 and isinstance(rest[1], Token):  # a control's name: `eyelids left angle 0.5`
+            return self._adjust("eyelids", [at, *rest], side)
+        if side:  # one eye's share of the lids' openness
+            return self._adjust("eyelids", [at, None, *rest], side)
+        amount, *rest = rest
         openness = self._number(amount, "openness", "eyelid openness")
         if openness is None:
             openness = 1.0

@@ -19,6 +19,8 @@ DEFAULT_MOVE_SECONDS: Dict[type, float] = {
     n.Look: TIMING.look,
     n.Wobble: TIMING.wobble,
     n.Eyelids: TIMING.eyelids,
+    n.Mood: TIMING.mood,
+    n.Adjust: TIMING.adjust,
 }
 
 
@@ -34,6 +36,13 @@ def statement_seconds(statement: Any) -> float:
         return move_seconds(statement)
     if isinstance(statement, n.Emotion):
         return EMOTIONS[statement.name].lid_seconds
+    if isinstance(statement, n.Feeling):
+        # Timed, a morph of that length; else the lids first, as the slowest emotion's.
+        if statement.timing.duration is not None:
+            return statement.timing.duration
+        return max(EMOTIONS[name].lid_seconds for name, _ in statement.weights)
+    if isinstance(statement, n.Wink):
+        return TIMING.wink_close + TIMING.wink_hold + TIMING.wink_open
     if isinstance(statement, n.Wait):
         return statement.duration
     if isinstance(statement, n.Blink):

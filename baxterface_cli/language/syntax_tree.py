@@ -72,6 +72,48 @@ class Emotion(Statement):
 
 
 @dataclass(frozen=True)
+class Feeling(Statement):
+    """Emotions at intensities, blended, and perhaps timed: `happy 0.4`,
+    `happy 0.6 + confused 0.4`, `sad in 1.5s ease-in-out`. The face morphs to the blend; without
+    `in T` the lids move first and the rest follows, as after a bare emotion."""
+
+    weights: Tuple[Tuple[str, float], ...]  # (emotion, weight), as written
+    timing: Timing = Timing()
+    pos: Pos = _pos()
+
+
+@dataclass(frozen=True)
+class Mood(Statement):
+    """`mood 0.6 -0.2 in 2s`: valence and arousal, each -1..1, as a place on the mood circle."""
+
+    valence: float
+    arousal: float
+    timing: Timing = Timing()
+    pos: Pos = _pos()
+
+
+@dataclass(frozen=True)
+class Wink(Statement):
+    """`wink left`: one eye (the robot's left, as `look left`) shuts and opens."""
+
+    side: str
+    pos: Pos = _pos()
+
+
+@dataclass(frozen=True)
+class Adjust(Statement):
+    """One number of the expression (core/expression.py's CONTROLS): `mouth curve 0.5 in 1s`,
+    `brows left angle -0.6`, `eyelids right 0.3`. `side` is "" for both sides."""
+
+    part: str
+    control: str
+    value: float
+    side: str = ""
+    timing: Timing = Timing()
+    pos: Pos = _pos()
+
+
+@dataclass(frozen=True)
 class Look(Statement):
     """Move the eyes (and with `dynamic`, the head) toward x, y."""
 
@@ -136,7 +178,10 @@ class Mouth(Statement):
 
 @dataclass(frozen=True)
 class Brows(Statement):
+    """A named pair of brows; with a side, that brow alone takes its shape."""
+
     name: str
+    side: str = ""
     pos: Pos = _pos()
 
 

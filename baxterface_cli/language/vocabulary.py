@@ -69,4 +69,7 @@ KEYWORDS: Tuple[str, ...] = (
     "together",
     "define",
     "say",
+    "mood",
+    "wink",
+    "pupils",
 )

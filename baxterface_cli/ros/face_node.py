@@ -24,7 +24,7 @@ from typing import Any, List, Optional, Tuple
 
 from ..core.face_state import FaceState
 from ..core.tables import BROWS, MOUTHS, SKINS
-from ..drawing.renderer import Renderer, pose
+from ..drawing.renderer import Renderer
 from ..engine.backlog import Backlog
 from ..engine.effects import Speech
 from ..engine.intake import Intake
@@ -256,8 +256,7 @@ class FaceNode:
         return bool(took)
 
     def _publish_frame(self, state: FaceState, now: float, force: bool = False) -> None:
-        at = pose(self.renderer.layers, state)
-        key = (at, state.parts, state.fade_from, int(state.fade * 255 + 0.5) if state.fade_from else 255)
+        key = self.renderer.frame_key(state)
         if key == self.last_key and not force:
             return
         frame = self.renderer.render(state)

@@ -346,3 +346,25 @@ def shape_at(track: Tuple[MouthKey, ...], t: float) -> Tuple[str, Optional[str],
     if key.blend > 0 and t < key.at + key.blend:
         return key.shape, track[i - 1].shape if i > 0 else REST, (t - key.at) / key.blend
     return key.shape, None, 1.0
+
+
+COARTICULATION = 0.04  # seconds the drawn mouth moves into each new shape, as lips do between sounds
+
+
+def coarticulated_at(track: Tuple[MouthKey, ...], t: float) -> Tuple[str, Optional[str], float]:
+    """As `shape_at`, for a mouth drawn from numbers: every shape is moved into, over its own
+    tween or COARTICULATION (at most its length), except "closed", which cuts, so the lips of
+    p, b and m do shut."""
+    i = bisect.bisect_right(track, (t, "\U0010ffff", math.inf)) - 1
+    if i < 0:
+        return REST, None, 1.0
+    key = track[i]
+    if key.shape == "closed" or i == 0:
+        return shape_at(track, t)
+    length = track[i + 1].at - key.at if i + 1 < len(track) else COARTICULATION
+    # Into a pause, no slower than the rules' promise that the mouth is at rest within rest_within.
+    most = MOUTH_RULES.rest_within if key.shape == REST else COARTICULATION
+    blend = key.blend or min(most, length)
+    if blend > 0 and t < key.at + blend:
+        return key.shape, track[i - 1].shape, (t - key.at) / blend
+    return key.shape, None, 1.0

@@ -20,6 +20,7 @@ from typing import Any, Callable, Dict, List, Optional
 
 from ..core.easing import EASINGS
 from ..core.partial_files import write_atomic
+from ..core.presets import MOOD_CIRCLE
 from ..core.tables import BROWS, DIRECTIONS, EMOTIONS, MOUTHS
 from ..engine.timeline import Timeline
 from ..extras import MissingTool
@@ -68,6 +69,16 @@ def vocabulary() -> Dict[str, List[str]]:
         "mouths": list(MOUTHS),
         "brows": list(BROWS),
         "directions": sorted(DIRECTIONS),
+    }
+
+
+def feelings() -> Dict[str, Any]:
+    """What the mood pad and the intensity slider offer: the emotions a script may give an
+    intensity (`happy 0.4`; `default` at any intensity is the neutral face, so it is left out),
+    and where each emotion sits on the mood circle, in degrees from pleasant (core/presets.py)."""
+    return {
+        "emotions": [name.replace(" ", "_") for name in EMOTIONS if name != "default"],
+        "mood_circle": [{"emotion": name, "degrees": degrees} for name, degrees in MOOD_CIRCLE],
     }
 
 
@@ -326,6 +337,7 @@ class Workspace:
         return {
             "script": script,
             "vocabulary": vocabulary(),
+            "feelings": feelings(),
             "buttons": [b.as_json() for b in self.buttons],
             "timeline": self.timeline(),
             "session": self.session(),

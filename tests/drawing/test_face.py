@@ -201,13 +201,16 @@ def test_the_committed_theme_is_what_the_drawing_script_draws():
         assert diff.mean() < 0.5 and (diff > 32).mean() < 0.001, filename
 
 
-def test_a_crossfade_is_between_its_ends():
-    face = Face()
+def test_a_crossfade_is_between_its_ends(tmp_path):
+    # Themes of pictures crossfade; the drawn face morphs instead (tests/drawing/test_morph.py).
+    Face().theme.export(tmp_path / "pictures")
+    face = Face(theme=tmp_path / "pictures")
     face.set_emotion("happy", 0)
     start = face.state
     face.set_emotion("sad", 0)
     end = face.state.replace(eyelids=start.eyelids)
     layers = face.theme.layers(face.size)
+    assert layers.drawn is None
     mid = compose(layers, end.replace(fade_from=start.parts, fade=0.5)).astype(int)
     a, b = compose(layers, start).astype(int), compose(layers, end).astype(int)
     assert np.all(mid >= np.minimum(a, b) - 1) and np.all(mid <= np.maximum(a, b) + 1)

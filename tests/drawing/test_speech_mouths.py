@@ -11,7 +11,7 @@ import pytest
 from baxterface_cli import Face, parse
 from baxterface_cli.core.face_state import FaceState, Parts
 from baxterface_cli.core.tables import MOUTHS, VISEMES, viseme_mouth
-from baxterface_cli.drawing import artwork
+from baxterface_cli.drawing import artwork, mouth_drawing
 from baxterface_cli.drawing.renderer import Renderer, compose
 from baxterface_cli.drawing.theme import OPTIONAL, Theme
 from baxterface_cli.language.diagnostics import ScriptError
@@ -29,7 +29,7 @@ def layer(name):
 def dark_inside(name):
     """Pixels of a mouth layer that show the mouth's dark inside."""
     rgba = layer(name).astype(int)
-    near = np.abs(rgba[..., :3] - np.array(artwork.MOUTH_INSIDE)).max(axis=2) < 40
+    near = np.abs(rgba[..., :3] - np.array(mouth_drawing.MOUTH_INSIDE)).max(axis=2) < 40
     return int((near & (rgba[..., 3] > 200)).sum())
 
 

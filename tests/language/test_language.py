@@ -199,17 +199,16 @@ def test_every_error_is_reported_not_only_the_first():
 
 
 def test_an_unknown_command_is_reported_beside_a_syntax_error_on_its_line():
-    found = errors("happy\nwink left\nrepeat 2 { hapy 3 }")
+    found = errors("happy\nblinkk left\nrepeat 2 { hapy 3 }")
     assert found == [
-        (2, 1, "unknown command 'wink'; did you mean 'blink'?"),
-        (2, 6, "unexpected 'left'; expected ';', '}' or a new line"),
+        (2, 1, "unknown command 'blinkk'; did you mean 'blink'?"),
+        (2, 8, "unexpected 'left'; expected ';', 'in', '}', a new line or a number"),
         (3, 12, "unknown command 'hapy'; did you mean 'happy'?"),
-        (3, 17, "unexpected '3'; expected ';', '}' or a new line"),
     ]
     # A known word stays quiet: only what is really wrong is said.
-    assert errors("define wink { blink }\nwink left; happy 3") == [
-        (2, 6, "unexpected 'left'; expected ';', '}' or a new line"),
-        (2, 18, "unexpected '3'; expected ';', '}' or a new line"),
+    assert errors("define wave { blink }\nwave left; happy 3") == [
+        (2, 6, "unexpected 'left'; expected ';', 'in', '}', a new line or a number"),
+        (2, 18, "an intensity must be from 0 to 1, not 3"),
     ]
 
 

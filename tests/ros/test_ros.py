@@ -168,6 +168,27 @@ def test_rostopic_pub_happy_changes_the_screen_to_a_warm_bgr8_face(ros, node):
     screen.close()
 
 
+def test_a_slow_morph_sends_a_frame_as_the_mouth_changes_though_its_named_parts_do_not(ros, node):
+    from sensor_msgs.msg import Image
+
+    proc, state = node
+    rostopic_pub(ros, "default")
+    report(state, test=lambda r: r["emotion"] == "default" and r["eyelids"] == 1.0)
+    screen = Topic("/robot/xdisplay", Image)
+    screen.wait_for()
+    seen = len(screen.messages)
+    rostopic_pub(ros, "happy 0.3 in 1s")  # the nearest named parts stay the default face's
+
+    def mouth(m):
+        return bytes(m.data[3072 * 440 : 3072 * 560])
+
+    first = mouth(screen.wait_for(after=seen))
+    # The frames keep changing through the morph, each a new mouth, though no part is swapped.
+    second = screen.wait_for(lambda m: mouth(m) != first, after=seen)
+    screen.wait_for(lambda m: mouth(m) not in (first, mouth(second)), after=seen)
+    screen.close()
+
+
 @pytest.mark.parametrize(
     "command, check",
     [
@@ -177,6 +198,13 @@ def test_rostopic_pub_happy_changes_the_screen_to_a_warm_bgr8_face(ros, node):
         ("look 200 0 in 0.2s", lambda r: r["eye_x"] == 80.0),
         ("skin_4", lambda r: r["skin"] == 4),
         ("dynamic_human_follow_on", lambda r: r["following"] == "human" and r["follow_dynamic"]),
+        (
+            "happy 0.6 + confused 0.4",
+            lambda r: r["emotion"] == "happy" and r["expression"]["mouth_skew"] > 0.3,
+        ),
+        ("mood -1 0 in 0.2s", lambda r: r["mood"] == [-1.0, 0.0] and r["expression"]["mouth_curve"] < 0),
+        ("mouth curve -0.5 in 0.2s", lambda r: r["expression"]["mouth_curve"] == -0.5),
+        ("eyelids left 0.25", lambda r: r["expression"]["lid_left"] == 0.25),
     ],
 )
 def test_each_command_shows_on_state(ros, node, command, check):

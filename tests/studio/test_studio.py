@@ -192,6 +192,33 @@ def test_the_preview_says_what_is_heard_while_it_plays(engine):
     assert preview.utterance("0123456789abcdef") is None
 
 
+def test_the_mood_pad_and_the_slider_are_offered_what_the_language_takes(tmp_path):
+    """The page's mood pad and intensity slider: their emotions and circle come from the tables,
+    and what they send is a press like any other, logged as the line it was."""
+    from baxterface_cli.core.tables import EMOTIONS
+    from baxterface_cli.studio.workspace import Workspace, feelings
+
+    offered = feelings()
+    assert offered["emotions"][0] == "happy" and "wake_up" in offered["emotions"]
+    assert "default" not in offered["emotions"]  # at any intensity, the neutral face
+    for word in offered["emotions"]:
+        parse(f"{word} 0.4 in 0.2s", "slider")
+    assert {m["emotion"] for m in offered["mood_circle"]} <= set(EMOTIONS)
+    (tmp_path / "show.face").write_text("happy\n")
+    workspace = Workspace(tmp_path / "show.face", idle=False)
+    assert workspace.state()["feelings"] == offered
+    workspace.command("mood 0.6 -0.2 in 0.2s")
+    workspace.command("sad 0.4 in 0.2s")
+    assert [p["command"] for p in workspace.session()["presses"]] == [
+        "mood 0.6 -0.2 in 0.2s",
+        "sad 0.4 in 0.2s",
+    ]
+    for bad in ("mood 1.01 0 in 0.2s", "mood 0 -2 in 0.2s", "sad 1.5 in 0.2s"):
+        with pytest.raises(ScriptError):
+            workspace.command(bad)
+    assert len(workspace.session()["presses"]) == 2
+
+
 def test_the_default_panel_has_emotions_looks_actions_and_phrases():
     buttons = load_panel()
     groups = {b.group for b in buttons}
@@ -506,6 +533,20 @@ def test_the_docs_show_the_session_export_as_written():
     shown = doc.split("```\n# baxterface studio session")[1].split("```")[0].splitlines()[1:]
     written = session.text_of(session.presses, "session-20261122-140318.face").splitlines()[1:]
     assert shown == written
+
+
+def test_the_docs_show_a_drag_on_the_mood_pad_as_the_session_writes_it():
+    session = Session(seed=1234)
+    for at, command in (
+        (0.0, "mood 0.2 0.1 in 0.2s"),
+        (0.1, "mood 0.45 0.3 in 0.2s"),
+        (0.21, "mood 0.6 0.4 in 0.2s"),
+    ):
+        session.press(command, at)
+    doc = (REPO / "docs" / "studio.md").read_text(encoding="utf-8")
+    section = doc.split("## The mood pad and the intensity slider")[1].split("\n## ")[0]
+    shown = section.split("```\n")[1].splitlines()
+    assert shown == session.text.splitlines()[2:]
 
 
 def test_scripts_are_parsed_one_at_a_time_and_a_long_queue_is_refused():

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import re
 import subprocess
+import time
 
 import pytest
 
@@ -184,3 +185,145 @@ def test_ctrl_s_asks_before_it_overwrites_a_change_made_on_disk(folder):
         assert script.read_text() == "happy\nlook left in 1s\nwait 1s\nblink"
         # The page's one failed request is the refused save, answered 409 as meant.
         assert all("409" in e["message"] for e in errors_in_console(driver))
+
+
+# Every request the page sends to /api/command, with the page's clock: the moving controls' pace.
+RECORD_COMMANDS = """
+window.__commands = [];
+const original = window.fetch;
+window.fetch = (url, init) => {
+  if (String(url).endsWith('/api/command')) window.__commands.push([performance.now(), init.body]);
+  return original(url, init);
+};
+"""
+MOOD_LINE = re.compile(r"mood (-?\d+(?:\.\d{1,2})?) (-?\d+(?:\.\d{1,2})?) in 0\.2s")
+
+
+def face_now(studio):
+    """The preview's face as the state JSON gives it: its expression and mood among the rest."""
+    code, state = studio.json("GET", "/api/state")
+    assert code == 200
+    return state["status"]["face"]
+
+
+def eventually(check, timeout=30.0):
+    """`check()` once it is truthy (asked every 50 ms for up to `timeout` seconds)."""
+    deadline = time.monotonic() + timeout
+    while True:
+        value = check()
+        if value:
+            return value
+        assert time.monotonic() < deadline, "waited in vain"
+        time.sleep(0.05)
+
+
+def session_commands(studio):
+    return [p["command"] for p in studio.json("GET", "/api/state")[1]["session"]["presses"]]
+
+
+def test_dragging_the_mood_pad_performs_mood_lines_that_the_session_logs(page):
+    from selenium.webdriver.common.action_chains import ActionChains
+    from selenium.webdriver.common.keys import Keys
+
+    studio, driver = page
+    before = face_now(studio)
+    assert before["expression"] is not None
+    pad = driver.find_element("css selector", "#mood-pad")
+    driver.execute_script("arguments[0].scrollIntoView({block: 'center'});", pad)
+    driver.execute_script(RECORD_COMMANDS)
+    w, h = pad.size["width"], pad.size["height"]
+    drag = ActionChains(driver, duration=10).move_to_element(pad).click_and_hold()
+    for _ in range(8):  # toward the top right, a move every 30 ms: faster than the pad sends
+        drag.move_by_offset(round(w * 0.05), -round(h * 0.05)).pause(0.03)
+    drag.move_by_offset(0, -h)  # far past the top edge: the arousal stays at 1
+    drag.release().perform()
+    # The last line sent is where the dot was let go, and the log shows it as a press does.
+    shown = wait_for(driver, "document.getElementById('mood-value').textContent")
+    valence, arousal = shown.split()
+    assert arousal == "1" and 0.5 < float(valence) < 1
+    last = f"mood {valence} {arousal} in 0.2s"
+    wait_for(driver, f"document.getElementById('session').textContent.trim().endsWith({last!r})")
+    commands = session_commands(studio)
+    assert commands[-1] == last and len(commands) >= 2
+    for command in commands:  # every one a mood line, in range, to 2 decimals
+        v, a = map(float, MOOD_LINE.fullmatch(command).groups())
+        assert -1 <= v <= 1 and -1 <= a <= 1
+    sent = driver.execute_script("return window.__commands;")
+    assert [body for _, body in sent] == commands
+    gaps = [b[0] - a[0] for a, b in zip(sent, sent[1:])]
+    assert min(gaps) > 95, gaps  # at most one every ~100 ms
+    # The face took the mood: its state says so, and its expression moved.
+    face = eventually(lambda: (lambda f: f["mood"] == [float(valence), 1.0] and f)(face_now(studio)))
+    assert face["expression"] != before["expression"]
+    # The arrow keys move the focused pad, not the eyes (ArrowDown is Look down's shortcut).
+    pad.send_keys(Keys.ARROW_DOWN)
+    down = f"mood {valence} 0.9 in 0.2s"
+    wait_for(driver, f"document.getElementById('session').textContent.trim().endsWith({down!r})")
+    assert not any(c.startswith("look") for c in session_commands(studio))
+    # Exported, the drag is a script that plays the same moods.
+    code, exported = studio.json("POST", "/api/session/export")
+    assert code == 200
+    done = subprocess.run(
+        [baxterface(), "explain", "-"], input=exported["text"], capture_output=True, text=True
+    )
+    assert done.returncode == 0, done.stderr
+    assert re.findall(r" line \d+ +(mood .*)", done.stdout) == [*commands, down]
+
+
+def test_the_intensity_slider_performs_an_emotion_at_its_intensity(page):
+    from selenium.webdriver.common.action_chains import ActionChains
+    from selenium.webdriver.common.keys import Keys
+    from selenium.webdriver.support.ui import Select
+
+    studio, driver = page
+    before = face_now(studio)
+    Select(driver.find_element("css selector", "#intensity-emotion")).select_by_value("sad")
+    wait_for(driver, "document.getElementById('session').textContent.includes('sad 0.5 in 0.2s')")
+    slider = driver.find_element("css selector", "#intensity")
+    driver.execute_script("arguments[0].scrollIntoView({block: 'center'});", slider)
+    width = slider.size["width"]
+    # From the middle to the right end, past where the thumb stops: 1, no further.
+    drag = ActionChains(driver).click_and_hold(slider).move_by_offset(width // 4, 0).pause(0.05)
+    drag.move_by_offset(width // 2 - width // 4 - 2, 0).release().perform()
+    wait_for(driver, "document.getElementById('session').textContent.trim().endsWith('sad 1 in 0.2s')")
+    face = eventually(lambda: (lambda f: f["expression"]["mouth_curve"] < -0.9 and f)(face_now(studio)))
+    assert face["expression"] != before["expression"] and face["emotion"] == "sad"
+    # From the keyboard: the arrows move the slider, not the eyes.
+    slider.send_keys(Keys.HOME)
+    wait_for(driver, "document.getElementById('session').textContent.trim().endsWith('sad 0 in 0.2s')")
+    slider.send_keys(Keys.ARROW_RIGHT)
+    wait_for(driver, "document.getElementById('session').textContent.trim().endsWith('sad 0.01 in 0.2s')")
+    assert driver.find_element("css selector", "#intensity-value").text == "0.01"
+    commands = session_commands(studio)
+    assert all(re.fullmatch(r"sad (0|1|0\.\d{1,2}) in 0\.2s", c) for c in commands), commands
+
+
+def test_out_of_range_moods_and_intensities_are_refused_with_diagnostics(page):
+    studio, driver = page
+    code, answer = studio.json("POST", "/api/command", "mood 1.5 0 in 0.2s")
+    assert code == 400
+    assert answer["diagnostics"][0]["message"] == "valence must be from -1 to 1, not 1.5"
+    code, answer = studio.json("POST", "/api/command", "happy 1.2 in 0.2s")
+    assert code == 400
+    assert answer["diagnostics"][0]["message"] == "an intensity must be from 0 to 1, not 1.2"
+    assert session_commands(studio) == []
+    # The lines the controls make stay in range whatever they are given.
+    lines = driver.execute_script(
+        "const s = window.studio;"
+        " return [s.moodLine(1.7, -3), s.moodLine(-0.004, 0.996), s.moodLine(NaN, 0.5),"
+        " s.intensityLine('happy', 1.2), s.intensityLine('wake_up', -0.1), s.intensityLine('sad', 0.333)];"
+    )
+    assert lines == [
+        "mood 1 -1 in 0.2s",
+        "mood 0 1 in 0.2s",
+        "mood 0 0.5 in 0.2s",
+        "happy 1 in 0.2s",
+        "wake_up 0 in 0.2s",
+        "sad 0.33 in 0.2s",
+    ]
+    options = driver.execute_script(
+        "return [...document.querySelectorAll('#intensity-emotion option')].map(o => o.value);"
+    )
+    assert options[0] == "happy" and "wake_up" in options and "default" not in options
+    for line in lines:
+        assert studio.json("POST", "/api/command", line)[0] == 200

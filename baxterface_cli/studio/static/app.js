@@ -168,6 +168,7 @@
       ["saying", r.saying ? `“${r.saying}”` : "—"],
     ];
     if (s.note) rows.push(["note", s.note]);
+    if (s.face) pad.follow(s.face.mood);
     const panel = $("robot");
     panel.replaceChildren();
     for (const [label, value] of rows) {
@@ -386,9 +387,161 @@
     }
   }
 
+  // -- the mood pad and the intensity slider: presses too, sent as they move
+
+  // A moving control sends one line at a time, at most every LIVE_EVERY ms, the newest position
+  // winning; the last one always goes, so the face ends where the control was let go. A line the
+  // same as the one before is sent again only when asked (`again`: a new click or key press).
+  const LIVE_EVERY = 100;
+  const LIVE_IN = "0.2s";
+
+  // A number as the line writes it: within its range, to 2 decimals, no "-0".
+  function rounded(value, low, high) {
+    const v = Math.round(Math.min(high, Math.max(low, Number.isFinite(value) ? value : 0)) * 100) / 100;
+    return v === 0 ? 0 : v;
+  }
+  const moodLine = (valence, arousal) => `mood ${rounded(valence, -1, 1)} ${rounded(arousal, -1, 1)} in ${LIVE_IN}`;
+  const intensityLine = (emotion, intensity) => `${emotion} ${rounded(intensity, 0, 1)} in ${LIVE_IN}`;
+
+  function liveSender() {
+    let wanted = null;
+    let sent = null;
+    let busy = false;
+    let last = -Infinity; // when the last line went
+    let timer = null;
+    function go() {
+      timer = null;
+      if (busy || wanted === null || wanted === sent) return;
+      const wait = last + LIVE_EVERY - performance.now();
+      if (wait > 0) {
+        timer = setTimeout(go, wait);
+        return;
+      }
+      const line = wanted;
+      busy = true;
+      sent = line;
+      last = performance.now();
+      press(line)
+        .catch(() => false)
+        .finally(() => {
+          busy = false;
+          go();
+        });
+    }
+    return {
+      send(line, again = false) {
+        wanted = line;
+        if (again) sent = null;
+        if (!timer) go();
+      },
+      // Nothing on its way, nor lately sent: the control may follow the face again.
+      quiet: () => !busy && timer === null && performance.now() - last > 600,
+    };
+  }
+
+  const pad = { set: () => {}, follow: () => {} };
+
+  function showFeelings(feelings) {
+    const area = $("mood-pad");
+    const dot = $("mood-dot");
+    const sender = liveSender();
+    let valence = 0;
+    let arousal = 0;
+    let held = null; // the pointer dragging the dot
+
+    for (const { emotion, degrees } of feelings.mood_circle) {
+      const tick = document.createElement("span");
+      const angle = (degrees * Math.PI) / 180;
+      tick.className = "tick";
+      tick.title = `${emotion} (${degrees}°)`;
+      tick.style.left = `${50 + 46 * Math.cos(angle)}%`;
+      tick.style.top = `${50 - 46 * Math.sin(angle)}%`;
+      area.insertBefore(tick, dot);
+    }
+
+    function show() {
+      dot.style.left = `${(valence + 1) * 50}%`;
+      dot.style.top = `${(1 - arousal) * 50}%`;
+      $("mood-value").textContent = `${valence} ${arousal}`;
+      area.setAttribute("aria-valuenow", String(valence));
+      area.setAttribute("aria-valuetext", `valence ${valence}, arousal ${arousal}`);
+    }
+    pad.set = (v, a, again = false) => {
+      valence = rounded(v, -1, 1);
+      arousal = rounded(a, -1, 1);
+      show();
+      sender.send(moodLine(valence, arousal), again);
+    };
+    // The face's own mood (a `mood` pressed or played elsewhere), while the pad is left alone.
+    pad.follow = (mood) => {
+      if (held !== null || !sender.quiet() || !Array.isArray(mood)) return;
+      valence = rounded(mood[0], -1, 1);
+      arousal = rounded(mood[1], -1, 1);
+      show();
+    };
+    const at = (event) => {
+      const r = area.getBoundingClientRect();
+      return [((event.clientX - r.left) / r.width) * 2 - 1, 1 - ((event.clientY - r.top) / r.height) * 2];
+    };
+    area.addEventListener("pointerdown", (event) => {
+      if (event.button !== 0) return;
+      event.preventDefault();
+      area.focus();
+      held = event.pointerId;
+      area.setPointerCapture(held);
+      area.classList.add("dragging");
+      pad.set(...at(event), true);
+    });
+    area.addEventListener("pointermove", (event) => {
+      if (event.pointerId === held) pad.set(...at(event));
+    });
+    const release = (event) => {
+      if (event.pointerId !== held) return;
+      held = null;
+      area.classList.remove("dragging");
+      if (event.type === "pointerup") pad.set(...at(event));
+    };
+    area.addEventListener("pointerup", release);
+    area.addEventListener("pointercancel", release);
+    area.addEventListener("keydown", (event) => {
+      const step = event.shiftKey ? 0.01 : 0.1;
+      const moves = {
+        ArrowLeft: [-step, 0],
+        ArrowRight: [step, 0],
+        ArrowUp: [0, step],
+        ArrowDown: [0, -step],
+      };
+      const again = !event.repeat;
+      if (event.key === "Home") pad.set(0, 0, again);
+      else if (moves[event.key]) pad.set(valence + moves[event.key][0], arousal + moves[event.key][1], again);
+      else return;
+      event.preventDefault();
+    });
+
+    const emotion = $("intensity-emotion");
+    const slider = $("intensity");
+    const intensitySender = liveSender();
+    for (const word of feelings.emotions) {
+      const option = document.createElement("option");
+      option.value = word;
+      option.textContent = word.replace(/_/g, " ");
+      emotion.appendChild(option);
+    }
+    const perform = () => {
+      $("intensity-value").textContent = String(rounded(Number(slider.value), 0, 1));
+      intensitySender.send(intensityLine(emotion.value, Number(slider.value)));
+    };
+    slider.addEventListener("input", perform);
+    slider.addEventListener("change", perform);
+    emotion.addEventListener("change", perform);
+    $("intensity-value").textContent = String(rounded(Number(slider.value), 0, 1));
+  }
+
   // Focus in the editor or a field that takes text: keys are for it, not shortcuts.
-  // (A checkbox, the slider or a button keeps the shortcuts working.)
+  // (A checkbox, the preview's slider or a button keeps the shortcuts working; the mood pad and
+  // the intensity slider keep only the keys that move them.)
   const NOT_TEXT = ["checkbox", "radio", "range", "button", "submit", "reset", "color", "file"];
+  const MOVING_KEYS = ["ArrowLeft", "ArrowRight", "ArrowUp", "ArrowDown", "Home", "End", "PageUp", "PageDown"];
   function typing(target) {
     if (!target || !target.closest) return false;
     if (target.closest(".cm-editor") || target.isContentEditable) return true;
@@ -403,6 +556,8 @@
       return;
     }
     if (event.ctrlKey || event.metaKey || event.altKey || typing(event.target)) return;
+    // The mood pad and the intensity slider move with the arrows (and Home, End, Page Up, Page Down).
+    if (event.target.closest && event.target.closest(".owns-arrows") && MOVING_KEYS.includes(event.key)) return;
     if (event.key === " ") {
       event.preventDefault();
       $("play").click();
@@ -432,6 +587,7 @@
     markSaved();
     showTimeline(state.timeline);
     showButtons(state.buttons);
+    showFeelings(state.feelings);
     showSession(state.session);
     $("robot-switch").checked = state.robot_link.on;
     $("robot-status").textContent = state.robot_link.status;
@@ -478,7 +634,7 @@
     };
     const sounds = () =>
       [...playingSounds.values()].map((e) => ({ at: e.at, t: audio.currentTime - e.startedAt, paused: !e.source }));
-    window.studio = { editor, press, api, sounds };
+    window.studio = { editor, press, api, sounds, moodLine, intensityLine };
     connect();
   }
 

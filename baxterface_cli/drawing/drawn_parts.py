@@ -1,0 +1,235 @@
+"""The default theme's mouth, brows and skin for any expression: drawn when first asked for, kept.
+
+A theme of pictures has one sprite per named part. The default theme draws its parts from
+the expression's numbers instead, so `PartBook` stands where the renderer looks up a part:
+a name gives the theme's own sprite, a key of numbers (`DrawnParts.keys`) the part drawn at
+those numbers. Keys round the numbers to steps of well under a screen pixel, so that a slow
+change redraws only when something would show, and a still face draws nothing at all.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import OrderedDict
+from functools import lru_cache
+from typing import Any, Callable, Dict, Hashable, NamedTuple, Tuple
+
+import numpy as np
+
+from ..core.expression import BROW_FIELDS, MOUTH_FIELDS, SKIN_FIELDS, Expression, finite
+from ..core.face_state import Parts
+from ..core.presets import from_parts
+from .artwork import (
+    brows_window,
+    draw_brows_numbers,
+    draw_lid,
+    draw_pupil,
+    draw_skin,
+    eye_centres,
+    lid_window,
+    pupil_window,
+)
+from .compositing import Sprite, alike_rows, sprite_from_rgba
+from .mouth_drawing import draw_mouth_numbers, mouth_window
+from .vector_shapes import Canvas
+
+KEPT = 48  # drawn parts kept per kind: a morph's worth, and every speech shape
+STEPS = 256  # mouth and brow numbers are rounded to 1/STEPS: under half a face pixel
+EYE_STEPS = 64  # pupil sizes and lid tilts to 1/64: under a face pixel
+SKIN_STEPS = 32  # skin numbers to 1/32: colour steps too small to see
+
+Size = Tuple[int, int]
+
+
+class MouthKey(NamedTuple):
+    numbers: Tuple[int, ...]  # MOUTH_FIELDS, in 1/STEPS
+
+
+class BrowsKey(NamedTuple):
+    numbers: Tuple[int, ...]  # both brows' fields, in 1/STEPS
+
+
+class SkinKey(NamedTuple):
+    numbers: Tuple[int, ...]  # SKIN_FIELDS, in 1/SKIN_STEPS
+
+
+_BROWS = BROW_FIELDS["left"] + BROW_FIELDS["right"]
+
+
+def _round(e: Expression, fields: Tuple[str, ...], steps: int) -> Tuple[int, ...]:
+    return tuple(int(math.floor(getattr(e, f) * steps + 0.5)) for f in fields)
+
+
+def _expression(fields: Tuple[str, ...], numbers: Tuple[int, ...], steps: int) -> Expression:
+    return Expression()._replace(**{f: n / steps for f, n in zip(fields, numbers)})
+
+
+# Every frame asks for the keys of its expression, mostly the same one as the frame before:
+# kept, so a face that only moves its eyes pays a lookup, not 31 roundings.
+@lru_cache(maxsize=64)
+def _keys(e: Expression) -> Parts:
+    e = finite(e)
+    return Parts(
+        SkinKey(_round(e, SKIN_FIELDS, SKIN_STEPS)),
+        MouthKey(_round(e, MOUTH_FIELDS, STEPS)),
+        BrowsKey(_round(e, _BROWS, STEPS)),
+    )
+
+
+@lru_cache(maxsize=64)
+def _eye_keys(e: Expression) -> Tuple[Tuple[int, ...], Tuple[int, ...]]:
+    e = finite(e)
+    sizes = (e.pupil_right, e.pupil_left)
+    tilts = (e.lid_right_angle, e.lid_left_angle)
+    return (
+        tuple(int(math.floor(min(1.6, max(0.5, v)) * EYE_STEPS + 0.5)) for v in sizes),
+        tuple(int(math.floor(min(1.0, max(-1.0, v)) * EYE_STEPS + 0.5)) for v in tilts),
+    )
+
+
+class PartBook:
+    """A kind of part by name (the theme's sprites) or by key (drawn, and the last KEPT kept)."""
+
+    def __init__(
+        self,
+        named: Dict[Hashable, Sprite],
+        draw: Callable[[Hashable], Sprite],
+        key: Callable[[Hashable], Hashable],
+    ) -> None:
+        self.named = named
+        self._draw = draw
+        self._drawn: OrderedDict[Hashable, Sprite] = OrderedDict()
+        # A key that a name's preset gives is that name's sprite: a still emotion draws nothing.
+        self._aliases = {key(name): name for name in named}
+
+    def __getitem__(self, key: Hashable) -> Sprite:
+        if key in self.named:
+            return self.named[key]
+        if key in self._aliases:
+            return self.named[self._aliases[key]]
+        sprite = self._drawn.get(key)
+        if sprite is None:
+            sprite = self._drawn[key] = self._draw(key)
+            while len(self._drawn) > KEPT:
+                self._drawn.popitem(last=False)
+        else:
+            self._drawn.move_to_end(key)
+        return sprite
+
+    def __contains__(self, key: object) -> bool:
+        return key in self.named
+
+    def __iter__(self):
+        return iter(self.named)
+
+    def __len__(self) -> int:
+        return len(self.named)
+
+    def get(self, key: Hashable, default=None):
+        return self.named.get(key, default)
+
+    def items(self):
+        return self.named.items()
+
+    def keys(self):
+        return self.named.keys()
+
+    def values(self):
+        return self.named.values()
+
+
+def _drawn_sprite(size: Size, window: Tuple[float, ...], draw: Callable[[Canvas], None]) -> Sprite:
+    canvas = Canvas(size, window)
+    draw(canvas)
+    sprite = sprite_from_rgba(np.asarray(canvas.image()), *canvas.corner) if canvas.rgba.size else None
+    if sprite is None:  # nothing drawn: one transparent pixel, as an empty layer of a theme
+        return Sprite(0, 0, np.zeros((1, 1, 3), np.uint16), np.full((1, 1, 3), 255, np.uint16))
+    return sprite
+
+
+class DrawnParts:
+    """Keys for an expression's parts, and the books that draw them, at one screen size."""
+
+    def __init__(
+        self, size: Size, skins: Dict[int, Sprite], mouths: Dict[str, Sprite], brows: Dict[str, Sprite]
+    ):
+        self.size = size
+        self.skins = PartBook(skins, self._skin, lambda i: self.keys(from_parts(Parts(skin=i))).skin)
+        self.mouths = PartBook(mouths, self._mouth, lambda m: self.keys(from_parts(Parts(mouth=m))).mouth)
+        self.brows = PartBook(brows, self._brows, lambda b: self.keys(from_parts(Parts(brows=b))).brows)
+        self._basis: Dict[int, Sprite] = {}
+        self._eyes: OrderedDict[Tuple[str, int, int], Any] = OrderedDict()
+
+    @staticmethod
+    def eye_keys(e: Expression) -> Tuple[Tuple[int, ...], Tuple[int, ...]]:
+        """(pupil sizes, lid tilts) of the eyes left to right on the screen (the robot's right
+        eye first), in 1/EYE_STEPS."""
+        return _eye_keys(e)
+
+    def pupil(self, index: int, size: int) -> Sprite:
+        """Eye `index`'s pupil at `size` (1/EYE_STEPS), at rest."""
+        cx, cy = eye_centres()[index]
+        scale = size / EYE_STEPS
+        return self._kept(
+            ("pupil", index, size),
+            lambda: _drawn_sprite(
+                self.size, pupil_window(index, scale), lambda c: draw_pupil(c, cx, cy, scale)
+            ),
+        )
+
+    def lid(self, index: int, tilt: int) -> Tuple[Sprite, Tuple[int, int]]:
+        """Eye `index`'s lid, closed, tilted by `tilt` (1/EYE_STEPS), with its band of alike rows."""
+        cx, cy = eye_centres()[index]
+        angle = tilt / EYE_STEPS
+
+        def draw() -> Tuple[Sprite, Tuple[int, int]]:
+            sprite = _drawn_sprite(self.size, lid_window(index, angle), lambda c: draw_lid(c, cx, cy, angle))
+            return sprite, alike_rows(sprite)
+
+        return self._kept(("lid", index, tilt), draw)
+
+    def _kept(self, key: Tuple[str, int, int], draw: Callable[[], Any]) -> Any:
+        found = self._eyes.get(key)
+        if found is None:
+            found = self._eyes[key] = draw()
+            while len(self._eyes) > KEPT:
+                self._eyes.popitem(last=False)
+        else:
+            self._eyes.move_to_end(key)
+        return found
+
+    @staticmethod
+    def keys(e: Expression) -> Parts:
+        """The drawn parts that show expression `e`."""
+        return _keys(e)
+
+    def _mouth(self, key: Hashable) -> Sprite:
+        e = _expression(MOUTH_FIELDS, key.numbers, STEPS)  # type: ignore[attr-defined]
+        return _drawn_sprite(self.size, mouth_window(e), lambda c: draw_mouth_numbers(c, e))
+
+    def _brows(self, key: Hashable) -> Sprite:
+        e = _expression(_BROWS, key.numbers, STEPS)  # type: ignore[attr-defined]
+        return _drawn_sprite(self.size, brows_window(e), lambda c: draw_brows_numbers(c, e))
+
+    def _skin(self, key: Hashable) -> Sprite:
+        """A skin between the named ones: every skin has the same outline, so its colours mix
+        linearly from theirs (the cheeks' and the "Zzz"'s too, which are painted over)."""
+        tint, cheeks, sleepy = (n / SKIN_STEPS for n in key.numbers)  # type: ignore[attr-defined]
+        tint = min(4.0, max(0.0, tint))
+        low = min(3, int(math.floor(tint)))
+        f = tint - low
+        colour = self._plain(low) * (1 - f) + self._plain(low + 1) * f
+        with_cheeks = self.skins[low].rgb_a * (1 - f) + self.skins[low + 1].rgb_a * f
+        colour += (with_cheeks - colour) * max(0.0, cheeks)
+        sleepy = min(1.0, max(0.0, sleepy))
+        colour += (self.skins[5].rgb_a - colour) * sleepy
+        base = self.skins[low]
+        rgb_a = np.clip(colour + 0.5, 0, 255 * 255).astype(np.uint16)
+        return Sprite(base.x, base.y, rgb_a, base.inv)
+
+    def _plain(self, index: int) -> np.ndarray:
+        """Skin `index` without its cheeks, drawn once, as float colour times alpha."""
+        if index not in self._basis:
+            rgba = np.asarray(draw_skin(self.size, index, cheeks=False))
+            self._basis[index] = sprite_from_rgba(rgba)
+        return self._basis[index].rgb_a.astype(np.float32)

@@ -1,0 +1,157 @@
+"""The drawn face: any expression drawn from its numbers, presets as before, morphs, winks."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from baxterface_cli import Face
+from baxterface_cli.core.expression import MOUTH_FIELDS
+from baxterface_cli.core.face_state import FaceState, Parts
+from baxterface_cli.core.presets import BROW_PRESETS, MOUTH_PRESETS, emotion_preset, from_parts
+from baxterface_cli.core.tables import BROWS, EMOTIONS, MOUTHS
+from baxterface_cli.drawing.drawn_parts import STEPS
+from baxterface_cli.drawing.renderer import Renderer, compose
+from baxterface_cli.drawing.theme import Theme
+
+SMALL = (256, 150)
+
+
+@pytest.fixture(scope="module")
+def layers():
+    return Theme.default().layers((1024, 600))
+
+
+def small(bgr: np.ndarray) -> np.ndarray:
+    return np.asarray(Image.fromarray(bgr[..., ::-1].copy(), "RGB").resize(SMALL, Image.BOX), np.int16)
+
+
+def looks_alike(a: np.ndarray, b: np.ndarray) -> bool:
+    """The golden pictures' tolerance: what antialiasing may change, not a shape."""
+    diff = np.abs(small(a) - small(b))
+    return diff.mean() < 1.0 and (diff > 24).mean() < 0.002
+
+
+@pytest.mark.parametrize("name", list(EMOTIONS))
+def test_each_emotion_at_full_strength_is_its_picture(layers, name):
+    spec = EMOTIONS[name]
+    for variant, (mouth, brows) in enumerate(spec.variants):
+        parts = FaceState(skin=spec.skin, mouth=mouth, brows=brows)
+        drawn = parts.replace(expression=emotion_preset(name, variant))
+        assert np.array_equal(compose(layers, drawn), compose(layers, parts)), (name, variant)
+
+
+@pytest.mark.parametrize("kind, name", [("mouth", m) for m in MOUTHS] + [("brows", b) for b in BROWS])
+def test_the_numbers_draw_the_named_parts_as_their_pictures(layers, kind, name):
+    """Nudged a step off its preset, a part is drawn from its numbers, not taken from the
+    theme's picture: it must look the same."""
+    preset = from_parts(Parts(**{kind: name}))
+    field = MOUTH_FIELDS[0] if kind == "mouth" else "brow_left_height"
+    nudged = preset._replace(**{field: getattr(preset, field) + 1 / STEPS})
+    picture = compose(layers, FaceState(**{kind: name}))
+    drawn = compose(layers, FaceState(**{kind: name}).replace(expression=nudged))
+    assert not np.array_equal(picture, drawn)  # really drawn anew
+    assert looks_alike(picture, drawn), name
+
+
+def mouth_ink_row(frame: np.ndarray, x: int = 512) -> float:
+    """The mean row of the mouth's dark ink down the column at x."""
+    column = frame[400:600, x].astype(int).sum(axis=1)
+    rows = np.flatnonzero(column < 250)
+    return 400 + float(rows.mean())
+
+
+def test_a_morph_bends_the_mouth_through_the_shapes_between(layers):
+    smile, frown = from_parts(Parts(mouth="smile")), from_parts(Parts(mouth="sad"))
+    renderer = Renderer(layers)
+    rows = [
+        mouth_ink_row(renderer.render(FaceState(expression=smile.mix(frown, u))).copy()) for u in (0, 0.5, 1)
+    ]
+    # The smile's middle hangs low, the frown's rises: halfway, the line is in between.
+    assert rows[0] > rows[1] > rows[2]
+    a, b = (compose(layers, FaceState(expression=e)).astype(int) for e in (smile, frown))
+    middle = compose(layers, FaceState(expression=smile.mix(frown, 0.5))).astype(int)
+    # Not a crossfade: somewhere the middle frame is far from the average of its ends.
+    assert np.abs(middle - (a + b) / 2).max() > 60
+
+
+def test_a_wink_shuts_the_robots_left_eye_which_is_on_the_viewers_right(layers):
+    open_face = compose(layers, FaceState(expression=emotion_preset("default")))
+    wink = compose(layers, FaceState(expression=emotion_preset("default")._replace(lid_left=0.0)))
+    changed = np.abs(open_face.astype(int) - wink.astype(int)).max(axis=2) > 30
+    columns = np.flatnonzero(changed.any(axis=0))
+    assert columns.size and columns.min() > 512  # the viewer's right half only
+    both = compose(layers, FaceState(eyelids=0.0))
+    assert np.array_equal(wink[:, 512:], both[:, 512:])  # shut as the lids shut both
+
+
+def test_the_cached_renderer_draws_what_the_plain_recomposite_draws(layers):
+    renderer = Renderer(layers)
+    start = emotion_preset("happy")
+    for i, u in enumerate(np.linspace(0, 1, 7)):
+        expression = start.mix(emotion_preset("angry"), float(u))._replace(lid_right=1 - u / 2)
+        state = FaceState(eye_x=10.0 * i, eye_y=-5.0 * i, eyelids=0.8, expression=expression)
+        assert np.array_equal(renderer.render(state), compose(layers, state)), u
+
+
+def test_numbers_out_of_range_or_not_finite_still_draw(layers):
+    wild = emotion_preset("happy")._replace(
+        mouth_open=50.0, mouth_width=-3.0, brow_left_height=float("nan"), tint=99.0, sleepy=-1.0
+    )
+    frame = Renderer(layers).render(FaceState(expression=wild))
+    assert frame.shape == (600, 1024, 3)
+
+
+def test_a_theme_of_pictures_shows_the_named_parts(tmp_path):
+    Face().theme.export(tmp_path / "pictures")
+    layers = Theme.load(tmp_path / "pictures").layers((1024, 600))
+    assert layers.drawn is None
+    state = FaceState(expression=emotion_preset("sad", 1))
+    # The timeline names the nearest parts beside the numbers; a picture theme draws those.
+    assert np.array_equal(compose(layers, state), compose(layers, FaceState()))
+
+
+def test_every_preset_is_a_known_part():
+    assert set(MOUTH_PRESETS) == set(MOUTHS) and set(BROW_PRESETS) == set(BROWS)
+
+
+def dark_in_eye(frame: np.ndarray, index: int) -> int:
+    x = 312 if index == 0 else 712  # the viewer's left eye is the robot's right
+    return int((frame[180:330, x - 60 : x + 60].astype(int).sum(axis=2) < 150).sum())
+
+
+def test_pupils_grow_and_shrink_each_on_its_own(layers):
+    base = emotion_preset("default")
+    plain = compose(layers, FaceState(expression=base))
+    wide = compose(layers, FaceState(expression=base._replace(pupil_left=1.5)))
+    assert dark_in_eye(wide, 1) > 1.5 * dark_in_eye(plain, 1)  # the robot's left: the viewer's right
+    assert dark_in_eye(wide, 0) == dark_in_eye(plain, 0)
+    small_ = compose(layers, FaceState(expression=base._replace(pupil_right=0.6)))
+    assert dark_in_eye(small_, 0) < 0.6 * dark_in_eye(plain, 0)
+
+
+def lid_edge_rows(frame: np.ndarray, x: int) -> int:
+    """The lowest row of lid colour down column x, above the eye's middle."""
+    lid = np.array((126, 172, 226))  # LID_COLOR in B, G, R
+    rows = np.flatnonzero(np.abs(frame[60:255, x].astype(int) - lid).max(axis=1) < 30)
+    return 60 + int(rows.max())
+
+
+def test_a_tilted_lid_drops_its_inner_corner(layers):
+    glare = emotion_preset("default")._replace(lid_left_angle=1.0, lid_right_angle=1.0)
+    frame = compose(layers, FaceState(eyelids=0.5, expression=glare))
+    level = compose(layers, FaceState(eyelids=0.5, expression=emotion_preset("default")))
+    # The viewer's left eye: its inner corner is on its right, toward the face's middle.
+    inner, outer = lid_edge_rows(frame, 312 + 70), lid_edge_rows(frame, 312 - 70)
+    assert inner - outer > 15
+    assert abs(lid_edge_rows(level, 312 + 70) - lid_edge_rows(level, 312 - 70)) <= 2
+
+
+def test_the_cached_renderer_keeps_up_with_pupils_and_tilts(layers):
+    renderer = Renderer(layers)
+    base = emotion_preset("happy")
+    for i, u in enumerate(np.linspace(0, 1, 6)):
+        e = base._replace(pupil_left=1 + u / 2, pupil_right=1 - u / 3, lid_left_angle=u, lid_right_angle=-u)
+        state = FaceState(eye_x=8.0 * i, eyelids=0.7 + 0.05 * i, expression=e)
+        assert np.array_equal(renderer.render(state), compose(layers, state)), u
