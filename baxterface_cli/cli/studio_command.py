@@ -67,6 +67,7 @@ def studio(
     if not path.parent.resolve().is_dir():
         raise fail(f"baxterface studio: no folder {path.parent} to keep {path.name} in", 2)
     renderer = Renderer(fitted_theme(theme, size, "studio"))
+    renderer.prepare_in_background()
     try:
         workspace = Workspace(path, Path(panel) if panel else None, seed, idle, topic=topic)
     except PanelError as e:

@@ -10,9 +10,10 @@ change redraws only when something would show, and a still face draws nothing at
 from __future__ import annotations
 
 import math
+import threading
 from collections import OrderedDict
 from functools import lru_cache
-from typing import Any, Callable, Dict, Hashable, NamedTuple, Tuple
+from typing import Any, Callable, Dict, Hashable, NamedTuple, Optional, Tuple
 
 import numpy as np
 
@@ -31,6 +32,7 @@ from .artwork import (
 )
 from .compositing import Sprite, alike_rows, sprite_from_rgba
 from .mouth_drawing import draw_mouth_numbers, mouth_window
+from .skin_mixing import TINTS, SkinPalette, mixed_colour, skin_weights
 from .vector_shapes import Canvas
 
 KEPT = 48  # drawn parts kept per kind: a morph's worth, and every speech shape
@@ -141,7 +143,7 @@ class PartBook:
 def _drawn_sprite(size: Size, window: Tuple[float, ...], draw: Callable[[Canvas], None]) -> Sprite:
     canvas = Canvas(size, window)
     draw(canvas)
-    sprite = sprite_from_rgba(np.asarray(canvas.image()), *canvas.corner) if canvas.rgba.size else None
+    sprite = sprite_from_rgba(*canvas.visible()) if canvas.rgba.size else None
     if sprite is None:  # nothing drawn: one transparent pixel, as an empty layer of a theme
         return Sprite(0, 0, np.zeros((1, 1, 3), np.uint16), np.full((1, 1, 3), 255, np.uint16))
     return sprite
@@ -158,6 +160,8 @@ class DrawnParts:
         self.mouths = PartBook(mouths, self._mouth, lambda m: self.keys(from_parts(Parts(mouth=m))).mouth)
         self.brows = PartBook(brows, self._brows, lambda b: self.keys(from_parts(Parts(brows=b))).brows)
         self._basis: Dict[int, Sprite] = {}
+        self._palette: Any = None  # a SkinPalette, False where there is none, None not yet
+        self._making_palette = threading.Lock()
         self._eyes: OrderedDict[Tuple[str, int, int], Any] = OrderedDict()
 
     @staticmethod
@@ -212,24 +216,48 @@ class DrawnParts:
         return _drawn_sprite(self.size, brows_window(e), lambda c: draw_brows_numbers(c, e))
 
     def _skin(self, key: Hashable) -> Sprite:
-        """A skin between the named ones: every skin has the same outline, so its colours mix
-        linearly from theirs (the cheeks' and the "Zzz"'s too, which are painted over)."""
-        tint, cheeks, sleepy = (n / SKIN_STEPS for n in key.numbers)  # type: ignore[attr-defined]
-        tint = min(4.0, max(0.0, tint))
-        low = min(3, int(math.floor(tint)))
-        f = tint - low
-        colour = self._plain(low) * (1 - f) + self._plain(low + 1) * f
-        with_cheeks = self.skins[low].rgb_a * (1 - f) + self.skins[low + 1].rgb_a * f
-        colour += (with_cheeks - colour) * max(0.0, cheeks)
-        sleepy = min(1.0, max(0.0, sleepy))
-        colour += (self.skins[5].rgb_a - colour) * sleepy
-        base = self.skins[low]
-        rgb_a = np.clip(colour + 0.5, 0, 255 * 255).astype(np.uint16)
-        return Sprite(base.x, base.y, rgb_a, base.inv)
+        """A skin between the named ones (drawing/skin_mixing.py)."""
+        numbers = _skin_numbers(key)
+        palette = self.palette()
+        if palette is not None:
+            return palette.sprite(*numbers)
+        base = self.skins[skin_weights(*numbers)[0]]
+        plain = [self._plain(i).rgb_a for i in range(TINTS)]
+        cheeky = [self.skins[i].rgb_a for i in range(TINTS + 1)]
+        return Sprite(base.x, base.y, mixed_colour(plain, cheeky, *numbers), base.inv)
 
-    def _plain(self, index: int) -> np.ndarray:
-        """Skin `index` without its cheeks, drawn once, as float colour times alpha."""
+    def named(self, parts: Parts) -> bool:
+        """Whether every part of `parts` is one of the theme's own (a preset's): a still
+        emotion, whose frame the renderer keeps."""
+        return all(
+            key in book or key in book._aliases
+            for book, key in ((self.skins, parts.skin), (self.mouths, parts.mouth), (self.brows, parts.brows))
+        )
+
+    def skin_stacked(self, key: Hashable) -> Optional[np.ndarray]:
+        """The skin of `key` laid alone, premultiplied, (h, w, 3) uint8, as the renderer stacks
+        it; None for a named skin (the renderer keeps those) or without a palette."""
+        if key in self.skins or key in self.skins._aliases:
+            return None
+        palette = self.palette()
+        return None if palette is None else palette.stacked(*_skin_numbers(key))
+
+    def palette(self) -> Optional[SkinPalette]:
+        """The named skins as a palette, made when a skin between them is first asked for."""
+        with self._making_palette:  # made once, whichever thread asks first
+            if self._palette is None:
+                plain = [self._plain(i) for i in range(TINTS)]
+                cheeky = [self.skins[i] for i in range(TINTS + 1)]
+                self._palette = SkinPalette.of(plain, cheeky) or False
+        return self._palette or None
+
+    def _plain(self, index: int) -> Sprite:
+        """Skin `index` without its cheeks, drawn once."""
         if index not in self._basis:
-            rgba = np.asarray(draw_skin(self.size, index, cheeks=False))
-            self._basis[index] = sprite_from_rgba(rgba)
-        return self._basis[index].rgb_a.astype(np.float32)
+            self._basis[index] = sprite_from_rgba(np.asarray(draw_skin(self.size, index, cheeks=False)))
+        return self._basis[index]
+
+
+def _skin_numbers(key: Hashable) -> Tuple[float, float, float]:
+    tint, cheeks, sleepy = (n / SKIN_STEPS for n in key.numbers)  # type: ignore[attr-defined]
+    return tint, cheeks, sleepy

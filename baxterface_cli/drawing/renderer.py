@@ -16,6 +16,7 @@ arithmetic; the tests hold the cached path to its exact pixels.
 from __future__ import annotations
 
 import math
+import threading
 from collections import OrderedDict
 from typing import Any, List, NamedTuple, Optional, Tuple
 
@@ -106,15 +107,15 @@ def top_stack(
     w, h = layers.size
     rect = rect or (0, 0, w, h)
     shape = (rect[3] - rect[1], rect[2] - rect[0])
-    sprites = [layers.skins[parts.skin], layers.mouths[parts.mouth], layers.brows[parts.brows]]
+    sprites = [layers.mouths[parts.mouth], layers.brows[parts.brows]]
     if skin is not None:
         x0, y0, x1, y1 = rect
         prem = skin.prem[y0:y1, x0:x1].astype(np.uint16)
         inv = np.repeat(skin.inv[y0:y1, x0:x1], 3, axis=2).astype(np.uint16)
-        sprites = sprites[1:]
     else:
         prem = np.zeros(shape + (3,), np.uint16)
         inv = np.full(shape + (3,), 255, np.uint16)
+        sprites.insert(0, layers.skins[parts.skin])
     return _stack(rect, sprites, prem, inv)
 
 
@@ -215,7 +216,9 @@ class _Canvas:
     ) -> None:
         w, h = layers.size
         self.frame = skin.prem.copy()
+        self.skin = skin
         self.boxes = boxes
+        self.parts = parts
         self.tops = [top_stack(layers, parts, box, skin) for box in boxes]
         for box, top in zip(boxes, self.tops):
             _finish_into(self.frame, box, top, bottom_stack(layers, at, box))
@@ -226,6 +229,36 @@ class _Canvas:
                 _finish_into(self.frame, rect, top, bottom_stack(layers, at, rect))
         self.frame.flags.writeable = False
         self.at = at
+
+    def repaint(self, layers: ThemeLayers, parts: Parts) -> None:
+        """Become `parts`, whose skin is this canvas's: redraw where the old or the new mouth
+        and brows reach, and the sockets' stacks they touch."""
+        screen = (0, 0) + layers.size
+        rects = []
+        for book, old, new in (
+            (layers.mouths, self.parts.mouth, parts.mouth),
+            (layers.brows, self.parts.brows, parts.brows),
+        ):
+            if old != new:
+                a, b = book[old].rect(), book[new].rect()
+                union = intersect(
+                    (min(a[0], b[0]), min(a[1], b[1]), max(a[2], b[2]), max(a[3], b[3])), screen
+                )
+                if union is not None:
+                    rects.append(union)
+        self.parts = parts
+        self.frame.flags.writeable = True
+        for i, box in enumerate(self.boxes):
+            if any(intersect(rect, box) is not None for rect in rects):
+                self.tops[i] = top_stack(layers, parts, box, self.skin)
+        for rect in rects:
+            _finish_into(
+                self.frame,
+                rect,
+                top_stack(layers, parts, rect, self.skin),
+                bottom_stack(layers, self.at, rect),
+            )
+        self.frame.flags.writeable = False
 
 
 def _finish_into(frame: np.ndarray, rect: Rect, top: TopStack, under: np.ndarray) -> None:
@@ -245,10 +278,17 @@ class Renderer:
         self._canvases: OrderedDict[Parts, _Canvas] = OrderedDict()
         self._skins: OrderedDict[Any, Tuple[TopStack, List[Rect]]] = OrderedDict()
         self._mix: Optional[np.ndarray] = None
+        self._moving: Optional[_Canvas] = None  # the drawn face between its presets
 
     @property
     def size(self) -> Tuple[int, int]:
         return self.layers.size
+
+    def prepare_in_background(self) -> None:
+        """Make, off this thread, what the drawn face's first skin between two named ones needs
+        (its palette, most of a second): a live face's first mood shows at once."""
+        if self.layers.drawn is not None:
+            threading.Thread(target=self.layers.drawn.palette, name="baxterface-palette", daemon=True).start()
 
     def frame_key(self, state: FaceState) -> Any:
         """A value equal for two states exactly when their frames are the same: a sink that
@@ -296,19 +336,41 @@ class Renderer:
 
     def _canvas(self, parts: Parts, at: Pose) -> _Canvas:
         canvas = self._canvases.get(parts)
-        if canvas is None:
-            if parts.skin not in self._skins:
-                skin = skin_stack(self.layers, parts.skin)
-                self._skins[parts.skin] = (skin, socket_boxes(skin.inv))
-                while len(self._skins) > SKINS_KEPT:
-                    self._skins.popitem(last=False)
-            self._skins.move_to_end(parts.skin)
-            canvas = _Canvas(self.layers, parts, at, *self._skins[parts.skin])
-            self._canvases[parts] = canvas
-            while len(self._canvases) > PARTS_KEPT:
-                self._canvases.popitem(last=False)
-        else:
+        if canvas is not None:
             self._canvases.move_to_end(parts)
+            return canvas
+        drawn = self.layers.drawn
+        if drawn is not None and not drawn.named(parts):
+            return self._morphing(parts, at)
+        canvas = _Canvas(self.layers, parts, at, *self._skin(parts.skin))
+        self._canvases[parts] = canvas
+        while len(self._canvases) > PARTS_KEPT:
+            self._canvases.popitem(last=False)
+        return canvas
+
+    def _skin(self, key: Any) -> Tuple[TopStack, List[Rect]]:
+        """A skin's stack and socket boxes: a named one's kept, one between them mixed."""
+        drawn = self.layers.drawn
+        prem = None if drawn is None else drawn.skin_stacked(key)
+        if prem is not None:  # between the named skins: their outline, so their sockets
+            named = self._skin(next(iter(self.layers.skins)))
+            return TopStack(prem, named[0].inv), named[1]
+        if key not in self._skins:
+            skin = skin_stack(self.layers, key)
+            self._skins[key] = (skin, socket_boxes(skin.inv))
+            while len(self._skins) > SKINS_KEPT:
+                self._skins.popitem(last=False)
+        self._skins.move_to_end(key)
+        return self._skins[key]
+
+    def _morphing(self, parts: Parts, at: Pose) -> _Canvas:
+        """The drawn face between its presets: one canvas, changed where the parts changed
+        (a morph moves the mouth, the brows or the skin a little, frame after frame)."""
+        canvas = self._moving
+        if canvas is None or canvas.parts.skin != parts.skin:
+            canvas = self._moving = _Canvas(self.layers, parts, at, *self._skin(parts.skin))
+        elif canvas.parts != parts:
+            canvas.repaint(self.layers, parts)
         return canvas
 
     def _draw(self, parts: Parts, at: Pose) -> np.ndarray:

@@ -135,7 +135,8 @@ class _Compiler:
         t: float,
         lids: float,
     ) -> None:
-        """Morph to a blend of emotions: over `duration`, or (None) lids first, then the rest."""
+        """Morph to a blend of emotions, the lids with the rest, over `duration` or (None) the
+        lids' own time: an intensity shows at once, where a bare emotion moves its lids first."""
         presets = []
         for name, weight in weights:
             spec = EMOTIONS[name]
@@ -144,15 +145,14 @@ class _Compiler:
         target = blend(presets)
         label = max(weights, key=lambda w: w[1])[0]
 
-        def lids_first(at: float) -> None:
-            self.emotions.append((at, label))
-            self.lids.move(at, lids, blend_lids(tuple(weights)), easing if duration is not None else "linear")
+        seconds = lids if duration is None else duration
 
-        self.later(t, lids_first)
-        if duration is None:
-            self.change_shape(t + lids, target, FACE_FIELDS)
-        else:
-            self.change_shape(t, target, FACE_FIELDS, duration, easing)
+        def start(at: float) -> None:
+            self.emotions.append((at, label))
+            self.lids.move(at, seconds, blend_lids(tuple(weights)), easing)
+
+        self.later(t, start)
+        self.change_shape(t, target, FACE_FIELDS, seconds, easing)
 
     def change_shape(
         self,

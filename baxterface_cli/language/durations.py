@@ -37,7 +37,7 @@ def statement_seconds(statement: Any) -> float:
     if isinstance(statement, n.Emotion):
         return EMOTIONS[statement.name].lid_seconds
     if isinstance(statement, n.Feeling):
-        # Timed, a morph of that length; else the lids first, as the slowest emotion's.
+        # Timed, a morph of that length; else a morph as long as the slowest emotion's lids take.
         if statement.timing.duration is not None:
             return statement.timing.duration
         return max(EMOTIONS[name].lid_seconds for name, _ in statement.weights)

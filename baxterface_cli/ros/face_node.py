@@ -79,6 +79,7 @@ class FaceNode:
             raise not_kept(e, rospy, argv) from None
         self.fps = settings.fps
         self.renderer = Renderer(layers)
+        self.renderer.prepare_in_background()
         self.live = LiveFace(start=sleep_face(), idle=settings.idle, now=time.monotonic())
         self.String, self.Image = String, Image
         self.bridge = cv_bridge.CvBridge()

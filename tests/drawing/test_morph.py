@@ -95,6 +95,19 @@ def test_the_cached_renderer_draws_what_the_plain_recomposite_draws(layers):
         assert np.array_equal(renderer.render(state), compose(layers, state)), u
 
 
+def test_a_morph_that_keeps_its_skin_redraws_only_what_moved_and_draws_it_right(layers):
+    # One skin throughout: the renderer repaints its one moving canvas where the mouth or the
+    # brows were or are, between named faces it keeps; every frame as the plain recomposite.
+    renderer = Renderer(layers)
+    happy = emotion_preset("happy")
+    steps = [happy._replace(mouth_curve=1 - u) for u in np.linspace(0, 2, 5)]
+    steps += [happy._replace(brow_left_height=u, brow_right_angle=-u) for u in np.linspace(0, 1, 4)]
+    steps += [happy, happy._replace(mouth_open=0.2, brow_left_curve=0.5), emotion_preset("default")]
+    for i, expression in enumerate(steps):
+        state = FaceState(eye_x=6.0 * (i % 3), eyelids=1.0 - 0.1 * (i % 2), expression=expression)
+        assert np.array_equal(renderer.render(state), compose(layers, state)), i
+
+
 def test_numbers_out_of_range_or_not_finite_still_draw(layers):
     wild = emotion_preset("happy")._replace(
         mouth_open=50.0, mouth_width=-3.0, brow_left_height=float("nan"), tint=99.0, sleepy=-1.0

@@ -72,12 +72,15 @@ def test_a_timed_emotion_morphs_through_the_shapes_between():
     assert tl.duration == pytest.approx(1.5)
 
 
-def test_an_untimed_blend_moves_the_lids_first_as_an_emotion_does():
+def test_an_untimed_intensity_morphs_at_once_over_its_lids_time():
     tl = timeline("sleep 0.5")
     lids = EMOTIONS["sleep"]
     assert tl.sample(lids.lid_seconds).eyelids == pytest.approx(1 - 0.5 * (1 - lids.eyelids))
-    before = tl.sample(lids.lid_seconds - 0.01).expression
-    assert close(before, from_parts(FaceState().parts))  # the face waits for the lids
+    start, end = from_parts(FaceState().parts), tl.sample(lids.lid_seconds).expression
+    # Linear, lids and face together: halfway at half the lids' time, where `sleep` alone waits.
+    assert close(tl.sample(lids.lid_seconds / 2).expression, start.mix(end, 0.5))
+    assert tl.sample(lids.lid_seconds / 2).eyelids == pytest.approx(1 - 0.25 * (1 - lids.eyelids))
+    assert close(timeline("sleep").sample(lids.lid_seconds - 0.01).expression, start)
 
 
 @pytest.mark.parametrize("name, angle", MOOD_CIRCLE)
