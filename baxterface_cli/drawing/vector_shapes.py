@@ -144,10 +144,13 @@ def stroke(points: Sequence[Point], width: float, canvas: Canvas) -> Callable:
         pts = [p(x, y) for x, y in points]
         w = canvas.pen(width)
         d.line(pts, fill=255, width=w)
-        # A disc at every point: the round caps, and round joints (PIL's own joint="curve"
-        # works out a pie slice per point in Python, five times slower).
+        # Round joints as discs the size of PIL's own joint="curve" pie slices, which it works
+        # out in Python, point by point, at five times the cost; then the round caps.
+        j = w / 2.0 - 1
+        for x, y in pts[1:-1] if w > 4 else ():  # as PIL: thin lines need no joints
+            d.ellipse([x - j, y - j, x + j, y + j], fill=255)
         r = w / 2.0
-        for x, y in pts:
+        for x, y in (pts[0], pts[-1]):
             d.ellipse([x - r, y - r, x + r, y + r], fill=255)
 
     return draw
