@@ -34,6 +34,8 @@ class Expression(NamedTuple):
     lid_right_angle: float = 0.0
     pupil_left: float = 1.0  # the pupil's size: 1 as drawn
     pupil_right: float = 1.0
+    lower_lid_left: float = 0.0  # the lower lid risen: 0 out of sight, 1 up to just below the pupil
+    lower_lid_right: float = 0.0
     mouth_curve: float = 0.0  # 1 the smile, -1 the frown, 0 a straight line
     mouth_width: float = 1.0
     mouth_skew: float = 0.0  # a wave that lifts one corner and drops the other (confused)
@@ -93,6 +95,11 @@ def _sides(part: str, name: str) -> Dict[str, Tuple[str, ...]]:
     return {"": (left, right), "left": (left,), "right": (right,)}
 
 
+def _either(part: str) -> Dict[str, Tuple[str, ...]]:
+    left, right = f"{part}_left", f"{part}_right"
+    return {"": (left, right), "left": (left,), "right": (right,)}
+
+
 def _one(field: str) -> Dict[str, Tuple[str, ...]]:
     return {"": (field,)}
 
@@ -121,11 +128,17 @@ CONTROLS: Dict[Tuple[str, str], Control] = {
     ("skin", "cheeks"): Control(_one("cheeks"), 0.0, 3.0, "blush; 1 as drawn"),
     ("skin", "sleepy"): Control(_one("sleepy"), 0.0, 1.0, "toward the sleeping skin and its Zzz"),
     ("eyelids", ""): Control({"left": ("lid_left",), "right": ("lid_right",)}, 0.0, 1.0, "one eye's share"),
+    ("eyelids", "lower"): Control(
+        _either("lower_lid"),
+        0.0,
+        1.0,
+        "the lower lids risen, as in a smile that reaches the eyes; 1 just below the pupil",
+    ),
     ("eyelids", "angle"): Control(
         _sides("lid", "angle"), -1.0, 1.0, "the edge tilted: the inner corner down (a glare), up (sorrow)"
     ),
     ("pupils", ""): Control(
-        {"": ("pupil_left", "pupil_right"), "left": ("pupil_left",), "right": ("pupil_right",)},
+        _either("pupil"),
         0.5,
         1.6,
         "the pupils' size; 1 as drawn",

@@ -138,6 +138,32 @@ def lid_window(index: int, tilt: float) -> Tuple[float, float, float, float]:
     return (cx - rx - 8, cy - LID_TOP - 4, cx + rx + 8, cy + depth + abs(tilt) * LID_TILT / 2 + 8)
 
 
+# The lower lid, risen all the way: its edge an arc bulging up, LOWER_TOP below the eye's centre
+# in its middle and LOWER_SAG lower at its ends; it sinks LOWER_TRAVEL to go out of sight.
+LOWER_TOP, LOWER_SAG, LOWER_TRAVEL = 52.0, 44.0, 110.0
+LOWER_DEPTH = 175.0  # its flat lower part reaches this far below the eye's centre
+
+
+def lower_lid_edge(x: float, cx: float, cy: float) -> float:
+    rx = LID[0]
+    return cy + LOWER_TOP + LOWER_SAG * (1 - math.sqrt(max(0.0, 1 - ((x - cx) / rx) ** 2)))
+
+
+def draw_lower_lid(c: Canvas, cx: float, cy: float) -> None:
+    """The lower lid, risen: skin-coloured below an upward arc, its edge lined in ink."""
+    rx = LID[0]
+    upper = curve(lambda x: lower_lid_edge(x, cx, cy), cx - rx, cx + rx)
+    outline = upper + [(cx + rx, cy + LOWER_DEPTH), (cx - rx, cy + LOWER_DEPTH)]
+    c.shape(polygon(outline), bounds_of(outline, 2), LID_COLOR)
+    line = curve(lambda x: lower_lid_edge(x, cx, cy) + 2, cx - rx + 10, cx + rx - 10)
+    c.shape(stroke(line, 6, c), bounds_of(line, 6), INK)
+
+
+def lower_lid_window(index: int) -> Tuple[float, float, float, float]:
+    cx, cy = eye_centres()[index]
+    return (cx - LID[0] - 8, cy + LOWER_TOP - 8, cx + LID[0] + 8, cy + LOWER_DEPTH + 4)
+
+
 def draw_eyelids(size: Tuple[int, int]) -> Image.Image:
     """Both lids, closed. All but their lowest rows are one flat colour, so
     those rows are identical and a moving lid changes pixels near its edge only."""

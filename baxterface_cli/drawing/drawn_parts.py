@@ -24,10 +24,12 @@ from .artwork import (
     brows_window,
     draw_brows_numbers,
     draw_lid,
+    draw_lower_lid,
     draw_pupil,
     draw_skin,
     eye_centres,
     lid_window,
+    lower_lid_window,
     pupil_window,
 )
 from .compositing import Sprite, alike_rows, sprite_from_rgba
@@ -191,6 +193,16 @@ class DrawnParts:
             return sprite, alike_rows(sprite)
 
         return self._kept(("lid", index, tilt), draw)
+
+    def lower_lid(self, index: int) -> Tuple[Sprite, Tuple[int, int]]:
+        """Eye `index`'s lower lid, risen all the way, with its band of alike rows."""
+        cx, cy = eye_centres()[index]
+
+        def draw() -> Tuple[Sprite, Tuple[int, int]]:
+            sprite = _drawn_sprite(self.size, lower_lid_window(index), lambda c: draw_lower_lid(c, cx, cy))
+            return sprite, alike_rows(sprite)
+
+        return self._kept(("lower lid", index, 0), draw)
 
     def _kept(self, key: Tuple[str, int, int], draw: Callable[[], Any]) -> Any:
         found = self._eyes.get(key)

@@ -25,6 +25,7 @@ import numpy as np
 from ..core.face_state import FaceState, Parts
 from ..core.geometry import clamp_to_ellipse
 from ..core.presets import expression_of
+from .artwork import LOWER_TRAVEL
 from .compositing import Rect, Sprite, div255, div255_inplace, finish, intersect, lay
 from .drawn_parts import EYE_STEPS
 from .theme_fitting import ThemeLayers
@@ -43,6 +44,7 @@ class Pose(NamedTuple):
     # empty: the theme's own sprites.
     pupils: Tuple[int, ...] = ()
     tilts: Tuple[int, ...] = ()
+    lower_dy: Tuple[int, ...] = ()  # the drawn face's lower lids, how far each has sunk
 
 
 def pose(layers: ThemeLayers, state: FaceState) -> Pose:
@@ -63,7 +65,9 @@ def pose(layers: ThemeLayers, state: FaceState) -> Pose:
     if layers.drawn is None or shape is None or len(layers.eyes) != 2 or len(layers.lids) != 2:
         return Pose(_round(x * s), _round(y * s), lids)
     pupils, tilts = layers.drawn.eye_keys(shape)
-    return Pose(_round(x * s), _round(y * s), lids, pupils, tilts)
+    risen = (_unit(shape.lower_lid_right, 0.0), _unit(shape.lower_lid_left, 0.0))
+    lower = tuple(_round((1.0 - r) * LOWER_TRAVEL * s) for r in risen)
+    return Pose(_round(x * s), _round(y * s), lids, pupils, tilts, lower)
 
 
 def eye_sprite(layers: ThemeLayers, at: Pose, i: int) -> Sprite:
@@ -80,8 +84,8 @@ def lid_sprite(layers: ThemeLayers, at: Pose, i: int) -> Tuple[Sprite, Tuple[int
     return layers.drawn.lid(i, at.tilts[i])  # type: ignore[union-attr]
 
 
-def _unit(v: float) -> float:
-    return min(1.0, max(0.0, v)) if math.isfinite(v) else 1.0
+def _unit(v: float, otherwise: float = 1.0) -> float:
+    return min(1.0, max(0.0, v)) if math.isfinite(v) else otherwise
 
 
 def _round(v: float) -> int:
@@ -148,6 +152,8 @@ def bottom_stack(layers: ThemeLayers, at: Pose, rect: Rect) -> np.ndarray:
     under = layers.background[y0:y1, x0:x1].astype(np.uint16)
     for i in range(len(layers.eyes)):
         lay(under, rect, eye_sprite(layers, at, i), at.eye_dx, at.eye_dy)
+    for i, dy in enumerate(at.lower_dy):
+        lay(under, rect, layers.drawn.lower_lid(i)[0], 0, dy)  # type: ignore[union-attr]
     for i, dy in enumerate(at.lid_dy):
         lay(under, rect, lid_sprite(layers, at, i)[0], 0, dy)
     return under
@@ -264,6 +270,25 @@ class _Canvas:
 def _finish_into(frame: np.ndarray, rect: Rect, top: TopStack, under: np.ndarray) -> None:
     x0, y0, x1, y1 = rect
     finish(top.prem, top.inv, under, out=frame[y0:y1, x0:x1])
+
+
+def _slid(before: Sprite, lid: Sprite, band: Tuple[int, int], was: int, now: int) -> List[Rect]:
+    """Rectangles outside which a lid that slid from `was` to `now` (and maybe became `lid`)
+    changes no pixel."""
+    if before is not lid:  # another lid: wherever either reaches
+        p, q = before.rect(0, was), lid.rect(0, now)
+        return [(min(p[0], q[0]), min(p[1], q[1]), max(p[2], q[2]), max(p[3], q[3]))]
+    if was == now:
+        return []
+    low, high = sorted((was, now))
+    a, b = band
+    # Rows inside the lid's band of identical rows, at both offsets, show the same colours:
+    # only the two stretches outside change.
+    top, bottom = lid.y + high + a, lid.y + low + b
+    x0, x1 = lid.x, lid.x + lid.width
+    if top < bottom:
+        return [(x0, lid.y + low, x1, top), (x0, bottom, x1, lid.y + high + lid.height)]
+    return [(x0, lid.y + low, x1, lid.y + high + lid.height)]
 
 
 class Renderer:
@@ -397,21 +422,13 @@ class Renderer:
                 rects.append((min(a[0], b[0]), min(a[1], b[1]), max(a[2], b[2]), max(a[3], b[3])))
         for i, (was, now) in enumerate(zip(old.lid_dy, new.lid_dy)):
             before, _ = lid_sprite(self.layers, old, i)
-            lid, (a, b) = lid_sprite(self.layers, new, i)
-            if before is not lid:  # another lid: wherever either reaches
-                p, q = before.rect(0, was), lid.rect(0, now)
-                rects.append((min(p[0], q[0]), min(p[1], q[1]), max(p[2], q[2]), max(p[3], q[3])))
-            elif was != now:
-                low, high = sorted((was, now))
-                # Rows inside the lid's band of identical rows, at both offsets,
-                # show the same colours: only the two stretches outside change.
-                top, bottom = lid.y + high + a, lid.y + low + b
-                x0, x1 = lid.x, lid.x + lid.width
-                if top < bottom:
-                    rects.append((x0, lid.y + low, x1, top))
-                    rects.append((x0, bottom, x1, lid.y + high + lid.height))
-                else:
-                    rects.append((x0, lid.y + low, x1, lid.y + high + lid.height))
+            lid, band = lid_sprite(self.layers, new, i)
+            rects += _slid(before, lid, band, was, now)
+        if old.lower_dy or new.lower_dy:  # none drawn is the same as sunk out of sight
+            sunk = (_round(LOWER_TRAVEL * self.layers.scale),) * 2
+            for i, (was, now) in enumerate(zip(old.lower_dy or sunk, new.lower_dy or sunk)):
+                lid, band = self.layers.drawn.lower_lid(i)  # type: ignore[union-attr]
+                rects += _slid(lid, lid, band, was, now)
         return rects
 
     def _redraw(self, canvas: _Canvas, rect: Rect, box: Rect, top: TopStack, at: Pose) -> None:

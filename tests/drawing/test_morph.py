@@ -108,6 +108,24 @@ def test_a_morph_that_keeps_its_skin_redraws_only_what_moved_and_draws_it_right(
         assert np.array_equal(renderer.render(state), compose(layers, state)), i
 
 
+def test_the_lower_lids_rise_into_each_eye_on_its_own(layers):
+    # The robot's left eye is on the viewer's right; a risen lower lid covers the eye's white
+    # below the pupil, and the cached renderer follows it rising and sinking.
+    white_below_pupil = (slice(330, 360), slice(650, 780))  # the viewer's right eye, low
+    other_eye = (slice(330, 360), slice(250, 380))
+    rest = compose(layers, FaceState(expression=emotion_preset("default")))
+    risen = compose(layers, FaceState(expression=emotion_preset("default")._replace(lower_lid_left=1.0)))
+    assert np.abs(risen[white_below_pupil].astype(int) - rest[white_below_pupil]).mean() > 40
+    assert np.array_equal(risen[other_eye], rest[other_eye])
+    renderer = Renderer(layers)
+    for i, u in enumerate([0.0, 0.3, 1.0, 0.6, 0.0, 0.8]):
+        e = emotion_preset("happy")._replace(lower_lid_left=u, lower_lid_right=1 - u)
+        state = FaceState(eye_x=5.0 * i, eyelids=0.9, expression=e)
+        assert np.array_equal(renderer.render(state), compose(layers, state)), u
+    state = FaceState(expression=None)
+    assert np.array_equal(renderer.render(state), compose(layers, state))
+
+
 def test_numbers_out_of_range_or_not_finite_still_draw(layers):
     wild = emotion_preset("happy")._replace(
         mouth_open=50.0, mouth_width=-3.0, brow_left_height=float("nan"), tint=99.0, sleepy=-1.0

@@ -38,7 +38,12 @@ def any_case(word):
 
 
 LEGACY_RE = re.compile(grammar().get_terminal("LEGACY").pattern.to_regexp())
-known_names = sorted(set(BARE_WORDS) | set(MOUTHS) | set(BROWS) | set(DIRECTIONS) | {"linear", "ease-in-out"})
+# `left` and `right` are left out: where a side may come before a name (`brows left raised`),
+# they are read as the side, so `brows right` drawn as a name would not be a sentence at all.
+known_names = sorted(
+    (set(BARE_WORDS) | set(MOUTHS) | set(BROWS) | set(DIRECTIONS) | {"linear", "ease-in-out"})
+    - {"left", "right"}
+)
 invented_names = st.from_regex(r"[a-z_][a-z0-9_]{0,8}(-[a-z0-9_]{1,4})?", fullmatch=True).filter(
     lambda s: s not in KEYWORDS and not LEGACY_RE.fullmatch(s)
 )
