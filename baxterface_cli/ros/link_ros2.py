@@ -15,6 +15,7 @@ import array
 import importlib
 import os
 import threading
+import time
 import uuid
 from typing import Any, Callable, Dict, List
 
@@ -179,8 +180,9 @@ class RclpyLink(Link):
         return self.context.ok()
 
     def spin(self) -> None:
+        # Sleeps, not joins: a Ctrl-C that breaks into Thread.join leaves the process to abort at exit.
         while self.thread.is_alive():
-            self.thread.join(0.2)  # in steps, so that Ctrl-C reaches the main thread
+            time.sleep(0.1)
 
     def close(self, reason: str = "done") -> None:
         if not self.context.ok():

@@ -34,12 +34,13 @@ def connect_robot(
     """
     warn = warn or (lambda text: link.log("warn", text))
     info = info or (lambda text: link.log("info", text))
-    # sound_play's requests are the speaker's (speakers.py), not the robot's.
-    wanted = {topic: kind for topic, kind in COMMAND_TYPES.items() if topic != SOUND_TOPIC}
+    # Every command topic is advertised from the start (sound_play's too, though the speaker sends
+    # what is said), so that whoever listens is connected before the first command.
+    wanted = dict(COMMAND_TYPES)
     publishers: Dict[str, Any] = {
         topic: link.publisher(topic, kind) for topic, kind in wanted.items() if link.has(kind)
     }
-    missing: Set[str] = set(wanted) - set(publishers)
+    missing: Set[str] = set(wanted) - set(publishers) - {SOUND_TOPIC}  # speech is the speaker's to say
 
     def send(effect: Any) -> None:
         for command in ros_commands(effect):
