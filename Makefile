@@ -142,6 +142,7 @@ bench: venv venv-ros
 	$(BIN)/python bench/bench_gif.py
 	$(BIN)/python bench/bench_playback.py
 	$(VENV_ROS)/bin/python bench/bench_node.py
+	$(BIN)/python bench/bench_ros_versions.py
 	$(BIN)/python bench/bench_follow.py
 	$(BIN)/python bench/bench_check.py
 	$(BIN)/python bench/bench_export.py

@@ -50,6 +50,7 @@ def test_ros_version_is_the_one_given_else_a_sourced_ros_s_else_1(monkeypatch):
 
 
 @pytest.mark.ros2
+@pytest.mark.xdist_group("ros2_link")
 def test_a_message_crosses_from_a_process_of_its_own_and_a_latched_one_waits_for_latecomers(ros2):
     link = open_link(2, "listener", anonymous=True)
     talker = subprocess.Popen(
@@ -75,6 +76,7 @@ def test_a_message_crosses_from_a_process_of_its_own_and_a_latched_one_waits_for
 
 
 @pytest.mark.ros2
+@pytest.mark.xdist_group("ros2_link")
 def test_parameters_names_and_types_through_the_link(ros2):
     argv = [
         "--ros-args",

@@ -21,7 +21,6 @@ import types
 from pathlib import Path
 
 import pytest
-import yaml
 
 from baxterface_cli.ros.connect import open_link
 from conftest import ROOT
@@ -84,6 +83,8 @@ def launched_command(given, folder):
     arguments.update(given)
     (node,) = [a for a in description if isinstance(a, Node)]
     assert isinstance(node.on_exit, Shutdown)  # the launch ends with its node
+    import yaml  # PyYAML comes with rclpy: not on Python 3.8, where this module is skipped
+
     values = {}
     for params in node.parameters:
         for name, value in params.items():
