@@ -45,9 +45,9 @@ def _require_rclpy() -> None:
     except ImportError as e:
         if sys.version_info < ROS2_FIRST_PYTHON:
             where = (
-                f"rclpy comes from PyPI for Python 3.10 and later, and this is {sys.version_info[0]}."
-                f"{sys.version_info[1]}: source a ROS 2 install (source /opt/ros/jazzy/setup.bash), "
-                "or use --ros 1"
+                "the ros2 extra brings it from PyPI for Python 3.10 and later (pip install "
+                f"'baxterface[ros2]'), and this is Python {sys.version_info[0]}.{sys.version_info[1]}: "
+                "source a ROS 2 install (source /opt/ros/jazzy/setup.bash), or use --ros 1"
             )
         else:
             where = (

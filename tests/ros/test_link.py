@@ -7,6 +7,7 @@ link is the one every test in test_ros.py goes through.
 
 from __future__ import annotations
 
+import os
 import subprocess
 import sys
 import textwrap
@@ -15,7 +16,7 @@ import pytest
 
 from baxterface_cli.ros.connect import open_link
 from baxterface_cli.ros.link import CHATTER, STATE, RosVersionError, ros_version
-from conftest import ROOT
+from conftest import ROOT, baxterface
 from ros2_world import Heard
 
 PUBLISHER = textwrap.dedent(
@@ -35,6 +36,22 @@ PUBLISHER = textwrap.dedent(
     link.close()
     """
 )
+
+
+@pytest.mark.parametrize(
+    "command",
+    [["node", "--ros", "2"], ["send", "--ros", "2", "happy"], ["stream", "--ros", "2", "-e", "happy"]],
+    ids=lambda c: c[0],
+)
+def test_without_rclpy_the_ros2_commands_say_in_one_line_which_extra_brings_it(command, tmp_path):
+    hidden = tmp_path / "rclpy"  # an rclpy that is not there, whatever this Python has
+    hidden.mkdir()
+    (hidden / "__init__.py").write_text("raise ImportError(\"No module named 'rclpy'\")\n", encoding="utf-8")
+    env = dict(os.environ, PYTHONPATH=str(tmp_path))
+    run = baxterface(*command, env=env)
+    assert run.code == 1 and len(run.err.strip().splitlines()) == 1, run.err
+    assert run.err.startswith(f"baxterface {command[0]}: ROS 2 needs the 'rclpy' module and its messages: ")
+    assert "pip install 'baxterface[ros2]'" in run.err and "Traceback" not in run.err
 
 
 def test_ros_version_is_the_one_given_else_a_sourced_ros_s_else_1(monkeypatch):
