@@ -110,3 +110,24 @@ def needs(module: str):
         if os.environ.get("CI") == "true":
             pytest.fail(f"CI needs {module}: {e}")
         pytest.skip(f"{module} is not installed: {e}")
+
+
+@pytest.fixture(scope="module")
+def ros2(request):
+    """ROS 2 on loopback, in a domain of the module's own: the environment for its processes.
+
+    This process takes it too while the module runs, so a Link it opens
+    (`open_link(2, ...)`) meets them. Skipped under Python before 3.10, where
+    the ros2 extra installs no rclpy; anywhere else a missing rclpy fails in CI.
+    """
+    from ros2_world import domain_for, loopback_env
+
+    if sys.version_info < (3, 10):
+        pytest.skip("rclpy comes from PyPI for Python 3.10 and later (the ros2 extra)")
+    needs("rclpy")
+    env = loopback_env(domain_for(Path(str(request.fspath)).name))
+    before = dict(os.environ)
+    os.environ.update({k: env[k] for k in ("ROS_DOMAIN_ID", "ROS_AUTOMATIC_DISCOVERY_RANGE")})
+    yield env
+    os.environ.clear()
+    os.environ.update(before)

@@ -201,8 +201,9 @@ def test_the_console_examples_are_found():
 
 # -- Python examples: each runs, and prints what the docs show ----------------
 
-# Blocks that need rospy run against a real master in tests/test_docs_ros.py.
-PYTHON = [e for e in python_examples() if "import rospy" not in e.code]
+# Blocks that need rospy run against a real master in tests/test_docs_ros.py, those that open a
+# Link (ROS 1 or 2) in tests/test_docs_ros2.py.
+PYTHON = [e for e in python_examples() if "import rospy" not in e.code and "open_link(" not in e.code]
 
 
 @pytest.mark.parametrize("example", PYTHON, ids=[f"{e.doc}: python {e.number}" for e in PYTHON])

@@ -1,4 +1,4 @@
-"""The commands that talk to ROS: `node`, `buttons`, `send` and `stream`."""
+"""The commands that talk to ROS: `node`, `buttons`, `send` and `stream` (`--ros 1` or `--ros 2`)."""
 
 from __future__ import annotations
 
@@ -24,44 +24,83 @@ from .app import (
     script_from,
 )
 
+ROS_OPT = typer.Option(
+    None,
+    "--ros",
+    metavar="1|2",
+    help="The ROS version: 1 (rospy) or 2 (rclpy); by default the ROS_VERSION of a sourced ROS, else 1.",
+)
 
-def _ros_ready(command: str, images: bool = True) -> None:
-    """ROS importable and its master reachable, or a clear exit 1."""
+
+def _version(command: str, given: Optional[int]) -> int:
+    from ..ros.link import RosVersionError, ros_version
+
+    try:
+        return ros_version(given)
+    except RosVersionError as e:
+        raise fail(f"baxterface {command}: {e}", 2) from None
+
+
+def _ros_ready(command: str, version: int = 1) -> None:
+    """ROS importable and (ROS 1) its master reachable, or a clear exit 1."""
     from ..ros.connect import RosUnavailable, require_master, require_ros
 
     try:
-        require_ros(images)
-        require_master()
+        require_ros(version)
+        if version == 1:
+            require_master()
     except RosUnavailable as e:
         raise fail(f"baxterface {command}: {e}") from None
 
 
-def _split_ros_args(words: List[str]) -> tuple:
-    """ROS remappings and private parameters (name:=value) apart from the rest."""
-    ros = [w for w in words if ":=" in w]
-    return [w for w in words if ":=" not in w], ros
+def _split_ros_args(words: List[str], version: int = 1, command: str = "send") -> tuple:
+    """The command's own words apart from its ROS arguments: on ROS 1 each `name:=value`
+    (remappings, `_private` parameters), on ROS 2 everything from `--ros-args` on."""
+    if version == 1:
+        return [w for w in words if ":=" not in w], [w for w in words if ":=" in w]
+    cut = words.index("--ros-args") if "--ros-args" in words else len(words)
+    own, ros = words[:cut], words[cut:]
+    for word in own:
+        if ":=" in word:  # ROS 1's spelling, which ROS 2 would silently ignore
+            name, value = word.split(":=", 1)
+            flag = "-p" if name.startswith("_") else "-r"
+            raise fail(
+                f"baxterface {command}: on ROS 2, ROS arguments come after --ros-args: "
+                f"--ros-args {flag} {name.lstrip('_') if flag == '-p' else name}:={value}",
+                2,
+            )
+    return own, ros
 
 
-def node(ctx: typer.Context) -> None:
-    """Run the face node on ROS: the replacement for the old screen_listener.py.
+def node(ctx: typer.Context, ros: Optional[int] = ROS_OPT) -> None:
+    """Run the face node on ROS 1 or ROS 2: the replacement for the old screen_listener.py.
 
-    Takes ROS remappings and private parameters as arguments:
-    display_chatter:=/other, _fps:=30, _size:=1920x1200, _theme:=DIR,
-    _idle:=false, _selftest:=true, _display_topic:=/robot/head_display,
-    _audio:=soundplay|local|none, _camera:=/cameras/head_camera/image,
-    _camera_hfov:=76 (degrees). Commands (old or new) arrive on
-    display_chatter and take over at once; scripts sent to ~queue wait for
-    what is playing. Frames go to /robot/xdisplay (bgr8), speech to
-    sound_play on /robotsound, what the face is doing to ~state (JSON).
+    Takes ROS remappings and the node's parameters as arguments, on ROS 1 as
+    display_chatter:=/other _fps:=30, on ROS 2 as --ros-args -r
+    display_chatter:=/other -p fps:=30. Parameters: fps, size (1920x1200),
+    theme (DIR), idle, selftest, display_topic (/robot/head_display), audio
+    (soundplay|local|none), camera (an image topic), camera_hfov (degrees).
+    Commands (old or new) arrive on display_chatter and take over at once;
+    scripts sent to ~queue wait for what is playing. Frames go to
+    /robot/xdisplay (bgr8), speech to sound_play on /robotsound (ROS 1) or
+    this machine's sound device (ROS 2), what the face is doing to ~state (JSON).
     """
-    _ros_ready("node")
+    version = _version("node", ros)
+    words, ros_args = _split_ros_args(list(ctx.args), version, "node")
+    if version == 2 and words:
+        raise fail(f"baxterface node: unexpected {words[0]!r}; ROS arguments come after --ros-args", 2)
+    _ros_ready("node", version)
+    from ..ros.connect import RosUnavailable
     from ..ros.face_node import run_node
     from ..ros.node_settings import SettingError
 
     try:
-        code = run_node(["baxterface_node", *ctx.args])
+        code = run_node([*words, *ros_args], version)
     except SettingError as e:
-        raise fail(f"baxterface node: {e}", 2) from None
+        said = str(e) if version == 1 else f"parameter {e.name} {e.problem}"
+        raise fail(f"baxterface node: {said}", 2) from None
+    except RosUnavailable as e:
+        raise fail(f"baxterface node: {e}") from None
     raise typer.Exit(code)
 
 
@@ -82,7 +121,7 @@ def buttons(
         button_map = ButtonMap.load(mapping)
     except MappingError as e:
         raise fail(f"baxterface buttons: {e}") from None
-    _ros_ready("buttons", images=False)
+    _ros_ready("buttons")
     from ..ros.buttons import run_buttons
 
     raise typer.Exit(run_buttons(button_map, ["baxterface_buttons", *ctx.args]))
@@ -104,6 +143,7 @@ def send(
         False, "--queue", help="Play after what is playing (the node's ~queue topic)."
     ),
     timeout: float = typer.Option(5.0, "--timeout", min=0.1, help="Seconds to wait for the face node."),
+    ros: Optional[int] = ROS_OPT,
 ) -> None:
     """Send a command or script to a running face node, checked first.
 
@@ -112,7 +152,8 @@ def send(
     --stdin, each line is a command of its own: bad lines are reported with
     their line number and skipped, and the exit status is 1 if there were any.
     """
-    text_words, ros_args = _split_ros_args(list(words or []) + list(ctx.args))
+    version = _version("send", ros)
+    text_words, ros_args = _split_ros_args(list(words or []) + list(ctx.args), version)
     if sum([file is not None, bool(text_words), stdin]) > 1:
         raise fail("baxterface send: give one of COMMAND, -f FILE or --stdin", 2)
     if file is None and not text_words and not stdin:
@@ -129,18 +170,19 @@ def send(
         except ScriptError as e:
             raise fail(e.render()) from None
         what = repr(text)
-    _ros_ready("send", images=False)
+    _ros_ready("send", version)
+    from ..ros.connect import RosUnavailable
     from ..ros.send import NoSubscriber, Sender, listeners
 
     try:
-        with Sender("baxter_face/queue" if queue else topic, timeout, ["baxterface_send", *ros_args]) as out:
+        with Sender("baxter_face/queue" if queue else topic, timeout, ros_args, version) as out:
             if stdin:
                 bad = _send_lines(out, sys.stdin)
                 if bad:
                     raise fail(f"baxterface send: {bad} line{'s' if bad > 1 else ''} not sent")
                 return
             typer.echo(f"sent {what} to {out.topic} ({listeners(out.send(text))})", err=True)
-    except NoSubscriber as e:
+    except (NoSubscriber, RosUnavailable) as e:
         raise fail(f"baxterface send: {e}") from None
 
 
@@ -176,12 +218,13 @@ def stream(
     theme: Optional[str] = THEME_OPT,
     idle: bool = IDLE_ON_OPT,
     crossfade: Optional[float] = CROSSFADE_OPT,
-    audio: str = typer.Option(
-        "soundplay",
+    audio: Optional[str] = typer.Option(
+        None,
         "--audio",
-        help="Where speech goes: soundplay (sound_play on /robotsound, on this machine), "
-        "local (this machine's sound device) or none.",
+        help="Where speech goes: soundplay (sound_play on /robotsound, on this machine; the default "
+        "on ROS 1), local (this machine's sound device; the default on ROS 2) or none.",
     ),
+    ros: Optional[int] = ROS_OPT,
 ) -> None:
     """Stream a script to the robot's screen in real time, no face node needed.
 
@@ -191,18 +234,26 @@ def stream(
     from ..ros.speakers import AUDIO_CHOICES, SPEAKERS
     from ..ros.wire import DISPLAY_TOPICS
 
+    version = _version("stream", ros)
+    _, ros_args = _split_ros_args(list(ctx.args), version, "stream")
+
     if robot not in DISPLAY_TOPICS:
         raise fail(f"baxterface stream: --robot must be {' or '.join(DISPLAY_TOPICS)}, not {robot!r}", 2)
-    if audio not in SPEAKERS:
+    if audio is not None and audio not in SPEAKERS:
         raise fail(f"baxterface stream: --audio must be {AUDIO_CHOICES}, not {audio!r}", 2)
     script = script_from(script_path, inline, "stream")
     renderer_layers = fitted_theme(theme, size, "stream")
-    _ros_ready("stream")
+    _ros_ready("stream", version)
     from ..drawing.renderer import Renderer
+    from ..ros.connect import RosUnavailable
     from ..ros.send import stream as stream_to
+    from ..ros.speakers import UnknownAudio
 
     animation = animation_for(script, seed, idle, crossfade)
-    played = stream_to(
-        animation, Renderer(renderer_layers), robot, fps, ["baxterface_stream", *ctx.args], audio=audio
-    )
+    try:
+        played = stream_to(animation, Renderer(renderer_layers), robot, fps, ros_args, audio, version)
+    except UnknownAudio as e:
+        raise fail(f"baxterface stream: {e}", 2) from None
+    except RosUnavailable as e:
+        raise fail(f"baxterface stream: {e}") from None
     typer.echo(f"streamed {animation.duration:.2f} s of script in {played:.2f} s", err=True)

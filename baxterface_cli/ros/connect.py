@@ -1,13 +1,17 @@
-"""Getting to ROS: clear words when it is not installed or its master is not there."""
+"""Getting to ROS: a `Link` to ROS 1 or 2, and clear words where it is missing or its master is away."""
 
 from __future__ import annotations
 
 import os
+from typing import TYPE_CHECKING, List, Sequence
+
+if TYPE_CHECKING:
+    from .link import Link
 
 INSTALL_HINT = (
-    "ROS 1 is not installed for this Python (rospy and cv_bridge are needed). On a robot "
+    "ROS 1 is not installed for this Python (rospy is needed). On a robot "
     "workstation, source /opt/ros/noetic/setup.bash first; on Debian, "
-    "'apt-get install python3-rospy python3-cv-bridge python3-sensor-msgs python3-std-msgs "
+    "'apt-get install python3-rospy python3-sensor-msgs python3-std-msgs "
     "python3-genpy ros-core' and use /usr/bin/python3"
 )
 
@@ -18,17 +22,38 @@ class RosUnavailable(Exception):
 
 # Where ROS 1 puts rospy: Debian's packages, and a ROS distribution's own tree.
 ROS_PYTHON_PATHS = ("/usr/lib/python3/dist-packages", "/opt/ros/noetic/lib/python3/dist-packages")
+ROS2_FIRST_PYTHON = (3, 10)  # the first Python the rclpy wheels of the ros2 extra are built for
 
 
-def require_ros(images: bool = True) -> None:
-    """rospy importable, and cv_bridge too for a command that sends `images`."""
+def require_ros(version: int = 1) -> None:
+    """ROS `version`'s client library (rospy, or rclpy with its message packages) importable."""
+    if version == 2:
+        return _require_rclpy()
     try:
         import rospy  # noqa: F401
-
-        if images:
-            import cv_bridge  # noqa: F401
     except ImportError as e:
         raise RosUnavailable(f"{_why_not_here()} ({e})") from None
+
+
+def _require_rclpy() -> None:
+    import sys
+
+    try:
+        import rclpy  # noqa: F401
+        import sensor_msgs.msg  # noqa: F401
+        import std_msgs.msg  # noqa: F401
+    except ImportError as e:
+        if sys.version_info < ROS2_FIRST_PYTHON:
+            where = (
+                "the ros2 extra brings it from PyPI for Python 3.10 and later (pip install "
+                f"'baxterface[ros2]'), and this is Python {sys.version_info[0]}.{sys.version_info[1]}: "
+                "source a ROS 2 install (source /opt/ros/jazzy/setup.bash), or use --ros 1"
+            )
+        else:
+            where = (
+                "pip install 'baxterface[ros2]', or source a ROS 2 install (source /opt/ros/jazzy/setup.bash)"
+            )
+        raise RosUnavailable(f"ROS 2 needs the 'rclpy' module and its messages: {where} ({e})") from None
 
 
 def _why_not_here() -> str:
@@ -62,3 +87,26 @@ def require_master(timeout: float = 3.0) -> None:
         socket.setdefaulttimeout(previous)
     if not online:
         raise RosUnavailable(f"cannot reach the ROS master at ROS_MASTER_URI={uri}; is roscore running?")
+
+
+def open_link(
+    version: int, name: str, argv: Sequence[str] = (), anonymous: bool = False, node: bool = False
+) -> Link:
+    """Join ROS `version` (1 or 2) as node `name`; `argv` is the command line's ROS arguments.
+
+    `anonymous` adds a unique suffix to the name (for tools of which several may run);
+    `node` is for a long-running node that serves parameters (ROS 2's parameter services).
+    Raises RosUnavailable (connect.py) when that ROS cannot be used from this Python, or when
+    ROS 1's master does not answer.
+    """
+    require_ros(version)
+    args: List[str] = [name, *argv]
+    if version == 1:
+        from .link_ros1 import RospyLink
+
+        require_master()  # rospy would wait for one for ever
+
+        return RospyLink(name, args, anonymous)
+    from .link_ros2 import RclpyLink
+
+    return RclpyLink(name, args, anonymous, node)

@@ -1,18 +1,20 @@
-"""`baxterface node`: the face node on ROS, replacing the old screen_listener.py.
+"""`baxterface node`: the face node on ROS 1 or ROS 2, replacing the old screen_listener.py.
 
 It listens on `display_chatter` (old commands and scripts alike), draws with
 the same engine as `play`, publishes changed frames on /robot/xdisplay as
 bgr8 through one latched publisher, drives the head, nod and enable
-topics through the core `Robot` (robot_link), speaks through the `_audio`
+topics through the core `Robot` (robot_link), speaks through the `audio`
 mode's speaker, and reports what the face is doing on `~state` (JSON,
 latched). All work happens in one loop; subscriber callbacks only hand
-messages over. The head camera (`_camera:=TOPIC`) is subscribed to only
+messages over. The head camera (`camera` parameter) is subscribed to only
 while a face is followed, and its images are looked at on the camera
-watch's own thread, never on the loop.
+watch's own thread, never on the loop. ROS itself is behind a `Link`
+(link.py): the same node runs on either version.
 """
 
 from __future__ import annotations
 
+import functools
 import gc
 import json
 import math
@@ -30,10 +32,12 @@ from ..engine.effects import Speech
 from ..engine.intake import Intake
 from ..engine.live_face import LiveFace, sleep_face
 from ..robot.camera_watch import CameraWatch
-from .messages import message_class
+from .connect import open_link
+from .images import image_fields, image_pixels
+from .link import CHATTER, NODE_NAME, QUEUE, STATE, Link
 from .node_settings import NodeSettings, SettingError, theme_layers
 from .robot_link import WARN_EVERY, connect_robot
-from .speakers import open_speaker
+from .speakers import UnknownAudio, default_audio, open_speaker
 
 STATE_EVERY = 0.1  # seconds between ~state messages while the face moves
 # After a command, the next frame comes this soon rather than at the next
@@ -48,9 +52,8 @@ SWITCH_INTERVAL = 0.001
 # Python's first two generations still collect young cycles; the full one is
 # left for this many of theirs rather than 10.
 FULL_COLLECTION_EVERY = 1000
-MASTER_CHECK = 1.0  # seconds between checks that the master still knows this node
-CAMERA_ENCODINGS = ("bgr8", "rgb8", "mono8")
-IMAGE_BUFFER = 1 << 24  # bytes: room for a whole 1280x800 image, so only the newest is kept
+SONAR_TOPIC = "/robot/sonar/head_sonar/state"
+HAND_TYPE = "baxter_core_msgs/EndpointState"
 
 
 def selftest_script() -> str:
@@ -64,42 +67,36 @@ def selftest_script() -> str:
 class FaceNode:
     """The node's state and its one loop."""
 
-    def __init__(self, argv: List[str]) -> None:
-        import cv_bridge
-        import rospy
-        from sensor_msgs.msg import Image
-        from std_msgs.msg import String
-
-        self.rospy = rospy
-        rospy.init_node("baxter_face", argv=argv, disable_signals=True)
+    def __init__(self, link: Link) -> None:
+        self.link = link
         try:
-            settings = NodeSettings.read(lambda name, default: rospy.get_param("~" + name, default))
+            get = link.param
+            settings = NodeSettings.read(get, NodeSettings(audio=default_audio(link.version)))
             layers = theme_layers(settings)
+            self.log = Backlog(link.log)  # never logs from the loop
+            self.speaker = open_speaker(settings.audio, link, self.log.warn)
+        except UnknownAudio as e:
+            raise SettingError("audio", str(e).split(" ", 1)[1]) from None
         except SettingError as e:
-            raise not_kept(e, rospy, argv) from None
+            kept = link.forget_bad(e.name)
+            raise e if kept is None else SettingError(e.name, f"{e.problem} ({kept})") from None
         self.fps = settings.fps
         self.renderer = Renderer(layers)
         self.renderer.prepare_in_background()
         self.live = LiveFace(start=sleep_face(), idle=settings.idle, now=time.monotonic())
-        self.String, self.Image = String, Image
-        self.bridge = cv_bridge.CvBridge()
-
-        self.image_pub = rospy.Publisher(settings.display_topic, Image, latch=True, queue_size=1)
-        self.state_pub = rospy.Publisher("~state", String, latch=True, queue_size=1)
-        levels = {"info": rospy.loginfo, "warn": rospy.logwarn, "error": rospy.logerr}
-        self.log = Backlog(lambda level, text: levels[level](text))  # never logs from the loop
-        self.speaker = open_speaker(settings.audio, rospy, self.log.warn)
+        self.image_pub = link.publisher(settings.display_topic, "sensor_msgs/Image", latched=True, queue=1)
+        self.state_pub = link.publisher(STATE, "std_msgs/String", latched=True, queue=1)
         self.saying: Optional[Tuple[str, float]] = None  # (text, when it ends) while the face speaks
         self.camera_topic = settings.camera
         hfov = settings.camera_hfov
         self.camera_sub: Any = None
 
         def camera(hand_to):
-            warn = lambda text: rospy.logwarn_throttle(WARN_EVERY, text)  # noqa: E731
-            return CameraWatch(hand_to, hfov_deg=hfov, decode=self._decode_image, warn=warn)
+            warn = lambda text: link.log("warn", text, every=WARN_EVERY)  # noqa: E731
+            return CameraWatch(hand_to, hfov_deg=hfov, decode=image_pixels, warn=warn)
 
         self.robot = connect_robot(
-            rospy, warn=self.log.warn, info=self.log.info, speak=self._speak, camera=camera
+            link, warn=self.log.warn, info=self.log.info, speak=self._speak, camera=camera
         )
 
         self.wake = threading.Event()
@@ -110,25 +107,19 @@ class FaceNode:
         self.last_state_text = ""
         self.last_state_at = -math.inf
 
-        rospy.Subscriber("display_chatter", String, self._heard, callback_args=False, queue_size=100)
-        rospy.Subscriber("~queue", String, self._heard, callback_args=True, queue_size=100)
-        from sensor_msgs.msg import PointCloud
-
-        rospy.Subscriber("/robot/sonar/head_sonar/state", PointCloud, self._sonar_cloud, queue_size=5)
-        for side in self.robot.gaze.hands:
-            rospy.Subscriber(
-                f"/robot/limb/{side}/endpoint_state",
-                message_class("EndpointState"),
-                self._hand,
-                side,
-                queue_size=1,
-            )
+        link.subscribe(CHATTER, "std_msgs/String", lambda msg: self._heard(msg, False), queue=100)
+        link.subscribe(QUEUE, "std_msgs/String", lambda msg: self._heard(msg, True), queue=100)
+        link.subscribe(SONAR_TOPIC, "sensor_msgs/PointCloud", self._sonar_cloud, queue=5)
+        if link.has(HAND_TYPE):  # Baxter's own message: ROS 1, or a ROS 2 with baxter_core_msgs
+            for side in self.robot.gaze.hands:
+                hand = functools.partial(self._hand, side=side)
+                link.subscribe(f"/robot/limb/{side}/endpoint_state", HAND_TYPE, hand, queue=1)
         if settings.selftest:
             self.live.command(selftest_script(), time.monotonic(), filename="selftest")
 
     # -- callbacks: hand over and wake the loop, nothing else
 
-    def _heard(self, msg: Any, queued: bool) -> None:
+    def _heard(self, msg: Any, queued: bool) -> None:  # display_chatter and ~queue
         refusal = self.intake.submit(msg.data, queued)  # parsed off the frame loop
         if refusal:
             self.log.warn(refusal)
@@ -143,32 +134,27 @@ class FaceNode:
         else:
             problem = self.robot.heard_sonar(channels["SensorId"], channels["Distance"])
         if problem:
-            self.rospy.logwarn_throttle(WARN_EVERY, f"skipped a head sonar cloud: {problem}")
+            self.link.log("warn", f"skipped a head sonar cloud: {problem}", every=WARN_EVERY)
 
-    def _hand(self, msg: Any, side: str) -> None:
+    def _hand(self, msg: Any, side: str) -> None:  # a hand's pose, for arm following
         p = msg.pose.position
         if all(math.isfinite(v) for v in (p.x, p.y, p.z)):
             self.robot.gaze.hands[side] = (p.x, p.y, p.z)  # the latest only: read at the frame rate
         else:
-            self.rospy.logwarn_throttle(WARN_EVERY, f"skipped a {side} hand pose that is not finite")
+            self.link.log("warn", f"skipped a {side} hand pose that is not finite", every=WARN_EVERY)
 
     def _image(self, msg: Any) -> None:
         self.robot.heard_image(msg, time.monotonic())  # decoded and looked at on the camera's thread
-
-    def _decode_image(self, msg: Any) -> Any:
-        if msg.encoding not in CAMERA_ENCODINGS:
-            raise ValueError(f"its encoding is {msg.encoding!r}; the face follower takes bgr8, rgb8 or mono8")
-        return self.bridge.imgmsg_to_cv2(msg, desired_encoding="bgr8")
 
     def _watch_camera(self) -> None:
         """Subscribe to the camera while a face is followed, and only then: images are heavy."""
         wanted = self.robot.gaze.wants_camera
         if wanted and self.camera_sub is None:
-            self.camera_sub = self.rospy.Subscriber(
-                self.camera_topic, self.Image, self._image, queue_size=1, buff_size=IMAGE_BUFFER
+            self.camera_sub = self.link.subscribe(
+                self.camera_topic, "sensor_msgs/Image", self._image, sensor=True
             )
         elif not wanted and self.camera_sub is not None:
-            self.camera_sub.unregister()
+            self.camera_sub.close()
             self.camera_sub = None
 
     def _speak(self, effect: Speech) -> None:
@@ -184,6 +170,7 @@ class FaceNode:
         finally:
             self.speaker.close()
             self.robot.camera.close()
+            self.link.close("face node finished")
 
     def _run(self) -> int:
         sys.setswitchinterval(SWITCH_INTERVAL)
@@ -191,13 +178,11 @@ class FaceNode:
         gc.set_threshold(young, middle, FULL_COLLECTION_EVERY)
         for signum in (signal.SIGINT, signal.SIGTERM):
             signal.signal(signum, lambda *_: (self.stop.set(), self.wake.set()))
-        self.rospy.loginfo(
-            "baxterface face node: listening on %s", self.rospy.resolve_name("display_chatter")
-        )
-        threading.Thread(target=self._watch_master, name="baxterface-master", daemon=True).start()
+        self.link.log("info", f"baxterface face node: listening on {self.link.resolve(CHATTER)}")
+        self.link.stay_connected(self.log.info)
         period = 1.0 / self.fps
         next_tick = time.monotonic()
-        while not self.stop.is_set() and not self.rospy.is_shutdown():
+        while not self.stop.is_set() and self.link.ok():
             now = time.monotonic()
             took = self._take_commands(now)
             for cue in self.live.due(now):
@@ -227,24 +212,7 @@ class FaceNode:
         self.intake.close()
         self.log.flush(timeout=0.3)
         self.log.close()
-        self.rospy.signal_shutdown("face node finished")
         return 0
-
-    # -- the master
-
-    def _watch_master(self) -> None:
-        """Register again with a master that no longer knows this node (it was restarted)."""
-        import rosgraph
-
-        master = rosgraph.Master(self.rospy.get_name())
-        while not self.stop.wait(MASTER_CHECK):
-            try:
-                master.lookupNode(self.rospy.get_name())
-            except rosgraph.MasterError:  # up, but it has never heard of us: a new master
-                self.log.info("the ROS master was restarted: registering again")
-                register_again()
-            except Exception:
-                pass  # down: rospy's own calls will fail until it is back
 
     def _take_commands(self, now: float) -> bool:
         """Start or queue what the intake has ready; True if something started now."""
@@ -261,7 +229,7 @@ class FaceNode:
         if key == self.last_key and not force:
             return
         frame = self.renderer.render(state)
-        self.image_pub.publish(self.bridge.cv2_to_imgmsg(frame, encoding="bgr8"))
+        self.image_pub.publish(**image_fields(frame))
         self.last_key, self.last_frame_at = key, now
 
     def _publish_state(self, state: FaceState, now: float, force: bool = False) -> None:
@@ -282,46 +250,17 @@ class FaceNode:
         }
         text = json.dumps(report, sort_keys=True)
         if text != self.last_state_text or force:
-            self.state_pub.publish(self.String(text))
+            self.state_pub.publish(data=text)
             self.last_state_text = text
         self.last_state_at = now
 
 
-def register_again() -> None:
-    """Tell the (new) master every topic and service this process has, as rospy does at start."""
-    from rospy.impl.registration import (
-        Registration,
-        RegManager,
-        get_registration_listeners,
-        get_service_manager,
-        get_topic_manager,
-    )
-
-    managers = [m for m in get_registration_listeners().listeners if isinstance(m, RegManager)]
-    if not managers:
-        return
-    manager = managers[0]
-    for name, kind in get_topic_manager().get_publications():
-        manager.reg_added(name, kind, Registration.PUB)
-    for name, kind in get_topic_manager().get_subscriptions():
-        manager.reg_added(name, kind, Registration.SUB)
-    for name, uri in get_service_manager().get_services():
-        manager.reg_added(name, uri, Registration.SRV)
-
-
-def not_kept(error: SettingError, rospy: Any, argv: List[str]) -> SettingError:
-    """`error`, after taking a bad value given on this command line off the parameter server.
-
-    rospy puts `_fps:=abc` on the server, where it would outlive this run and
-    fail the next one; a value someone else set there is left, and the message
-    says how to remove it.
-    """
-    where = rospy.resolve_name("~" + error.name)
-    if any(word.startswith(f"_{error.name}:=") for word in argv):
-        rospy.delete_param(where)
-        return error
-    return SettingError(error.name, f"{error.problem} (on the parameter server: 'rosparam delete {where}')")
-
-
-def run_node(argv: List[str]) -> int:
-    return FaceNode(argv).run()
+def run_node(argv: List[str], version: int = 1) -> int:
+    """Run the face node on ROS `version` with the command line's ROS arguments `argv`."""
+    link = open_link(version, NODE_NAME, argv, node=True)
+    try:
+        node = FaceNode(link)
+    except BaseException:
+        link.close("the face node could not start")
+        raise
+    return node.run()

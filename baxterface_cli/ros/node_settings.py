@@ -1,6 +1,6 @@
 """The face node's settings, read and checked in one place, without ROS.
 
-The node reads its private parameters (`~fps`, `~size`, ...) through a
+The node reads its own parameters (ROS 1's `~fps`, ROS 2's `fps`, ...) through a
 `get(name, default)` function; anything wrong is a `SettingError` that names
 the parameter, so `baxterface node` can say which one and exit 2.
 """
@@ -40,9 +40,10 @@ class NodeSettings:
     camera_hfov: float = CAMERA_HFOV
 
     @classmethod
-    def read(cls, get: Callable[[str, Any], Any]) -> NodeSettings:
-        """Every setting from `get(name, default)`; SettingError on the first bad one."""
-        d = cls()
+    def read(cls, get: Callable[[str, Any], Any], defaults: Optional[NodeSettings] = None) -> NodeSettings:
+        """Every setting from `get(name, default)`, with `defaults` where it has none (those of
+        ROS 1 unless given); SettingError on the first bad one."""
+        d = defaults or cls()
         return cls(
             fps=_number(get, "fps", d.fps, 1.0, 120.0),
             size=_size(get, "size", f"{d.size[0]}x{d.size[1]}"),

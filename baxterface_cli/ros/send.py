@@ -3,16 +3,21 @@
 from __future__ import annotations
 
 import time
-import warnings
 from typing import List, Optional
 
 from ..drawing.renderer import Renderer
 from ..engine.animation import Animation
 from ..engine.effects import Cue
 from ..play.player import Player
+from .connect import open_link
+from .images import image_fields
+from .link import Link
 from .robot_link import connect_robot
-from .speakers import DEFAULT_AUDIO, open_speaker
+from .speakers import default_audio, open_speaker
 from .wire import DISPLAY_TOPICS
+
+DELIVERY = 5.0  # seconds a message may take to reach every listener before `send` moves on
+CONNECT = 5.0  # seconds `stream` on ROS 2 waits for the screen to subscribe before it plays anyway
 
 
 class NoSubscriber(Exception):
@@ -22,36 +27,35 @@ class NoSubscriber(Exception):
 class Sender:
     """One connection to a face node's command topic, for one message or many.
 
-    Publishing is synchronous (no queue_size): when `send` returns, the message
-    is in the listeners' sockets, so nothing waits a fixed time for it to leave.
+    Nothing waits a fixed time for a message to leave: on ROS 1, when `send`
+    returns the message is in the listeners' sockets (publishing without a
+    queue); on ROS 2 every message is kept until the listeners acknowledge it,
+    which leaving the `with` block waits for.
     """
 
-    def __init__(self, topic: str, timeout: float, argv: List[str]) -> None:
-        import rospy
-        from std_msgs.msg import String
-
-        rospy.init_node("baxterface_send", argv=argv, anonymous=True, disable_signals=True)
-        self.rospy, self.String, self.timeout = rospy, String, timeout
-        self.topic = rospy.resolve_name(topic)
-        with warnings.catch_warnings():  # rospy warns of a publisher without a queue: that is the point
-            warnings.simplefilter("ignore")
-            self.publisher = rospy.Publisher(self.topic, String)
+    def __init__(self, topic: str, timeout: float, argv: List[str], version: int = 1) -> None:
+        self.link = open_link(version, "baxterface_send", argv, anonymous=True)
+        self.timeout = timeout
+        self.publisher = self.link.publisher(topic, "std_msgs/String", queue=0)
+        self.topic = self.publisher.topic
 
     def __enter__(self) -> Sender:
         return self
 
     def __exit__(self, *exc: object) -> None:
-        self.publisher.unregister()
+        self.publisher.wait_delivered(DELIVERY)  # ROS 2: what was sent reaches them before we leave
+        self.publisher.close()
+        self.link.close("sent")
 
     def send(self, text: str) -> int:
         """Publish `text` once something listens; how many listeners it reached."""
         deadline = time.monotonic() + self.timeout
-        while self.publisher.get_num_connections() == 0:
+        while self.publisher.listeners() == 0:
             if time.monotonic() > deadline:
                 raise NoSubscriber(f"nothing listens on {self.topic}: is the face node running?")
             time.sleep(0.005)
-        self.publisher.publish(self.String(text))
-        return self.publisher.get_num_connections()
+        self.publisher.publish(data=text)
+        return self.publisher.listeners()
 
 
 def listeners(count: int) -> str:
@@ -63,24 +67,27 @@ class _RosScreen:
 
     name = "robot"
 
-    def __init__(self, topic: str) -> None:
-        import cv_bridge
-        import rospy
-        from sensor_msgs.msg import Image
-
-        self.rospy = rospy
-        self.bridge = cv_bridge.CvBridge()
-        self.publisher = rospy.Publisher(topic, Image, latch=True, queue_size=1)
+    def __init__(self, link: Link, topic: str) -> None:
+        self.link = link
+        self.publisher = link.publisher(topic, "sensor_msgs/Image", latched=True, queue=1)
         self.last: Optional[bytes] = None
 
     def show(self, frame, status: str) -> None:
-        data = frame.tobytes()
-        if data != self.last:  # an unchanged frame is not sent again
-            self.publisher.publish(self.bridge.cv2_to_imgmsg(frame, encoding="bgr8"))
-            self.last = data
+        fields = image_fields(frame)
+        if fields["data"] != self.last:  # an unchanged frame is not sent again
+            self.publisher.publish(**fields)
+            self.last = fields["data"]
 
     def alive(self) -> bool:
-        return not self.rospy.is_shutdown()
+        return self.link.ok()
+
+    def wait_for_listener(self, most: float) -> None:
+        """Until the screen (or anything) subscribes, at least half a second and at most `most`:
+        ROS 2 may take seconds to discover a new node."""
+        start = time.monotonic()
+        time.sleep(0.5)
+        while self.publisher.listeners() == 0 and time.monotonic() < start + most:
+            time.sleep(0.02)
 
 
 def stream(
@@ -89,33 +96,37 @@ def stream(
     robot: str,
     fps: float,
     argv: List[str],
-    audio: str = DEFAULT_AUDIO,
+    audio: Optional[str] = None,
+    version: int = 1,
 ) -> float:
     """Play `animation` on the robot's screen in real time, with its robot effects and speech.
 
     The effects go through the same core `Robot` as the face node's, and the
-    speech through the same speaker for the `audio` mode, so one script sends
-    the same commands at the same times from both.
+    speech through the same speaker for the `audio` mode (by default the node's
+    on that ROS version), so one script sends the same commands at the same
+    times from both.
     """
-    import rospy
-
-    rospy.init_node("baxterface_stream", argv=argv, anonymous=True, disable_signals=True)
-    screen = _RosScreen(DISPLAY_TOPICS[robot])
-    speaker = open_speaker(audio, rospy, rospy.logwarn, name="--audio")
+    link = open_link(version, "baxterface_stream", argv, anonymous=True)
     try:
-        arm = connect_robot(rospy, speak=speaker.speak)
-        time.sleep(0.5)  # let subscribers connect before the first frame
-        pending: List[Cue] = list(animation.timeline.cues)
+        screen = _RosScreen(link, DISPLAY_TOPICS[robot])
+        speaker = open_speaker(
+            audio or default_audio(version), link, lambda t: link.log("warn", t), "--audio"
+        )
+        try:
+            arm = connect_robot(link, speak=speaker.speak)
+            screen.wait_for_listener(CONNECT if version == 2 else 0.5)  # the first frames reach the screen
+            pending: List[Cue] = list(animation.timeline.cues)
 
-        def on_time(t: float) -> None:
-            while pending and pending[0].at <= t:
-                arm.take(pending.pop(0).effect, t)
-            arm.tick(t)
+            def on_time(t: float) -> None:
+                while pending and pending[0].at <= t:
+                    arm.take(pending.pop(0).effect, t)
+                arm.tick(t)
 
-        player = Player(animation, renderer, screen, fps, on_time=on_time)
-        played = player.run()
-        time.sleep(0.3)
+            player = Player(animation, renderer, screen, fps, on_time=on_time)
+            played = player.run()
+            time.sleep(0.3)
+        finally:
+            speaker.close()
     finally:
-        speaker.close()
-    rospy.signal_shutdown("streamed")
+        link.close("streamed")
     return played

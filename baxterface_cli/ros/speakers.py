@@ -26,7 +26,7 @@ class Speaker:
     mouth starts moving, so it starts the sound and returns.
     """
 
-    def __init__(self, rospy: Any, warn: Callable[[str], None]) -> None:
+    def __init__(self, link: Any, warn: Callable[[str], None]) -> None:
         pass
 
     def speak(self, effect: Speech) -> None:
@@ -49,12 +49,9 @@ class SoundPlaySpeaker(Speaker):
 
     KEEP = 30.0  # seconds a file outlives its sound: sound_play may open it late
 
-    def __init__(self, rospy: Any, warn: Callable[[str], None]) -> None:
-        from .messages import message_class
-
+    def __init__(self, link: Any, warn: Callable[[str], None]) -> None:
         self.warn = warn
-        self.request = message_class(COMMAND_TYPES[SOUND_TOPIC])
-        self.publisher = rospy.Publisher(SOUND_TOPIC, self.request, queue_size=10)
+        self.publisher = link.publisher(SOUND_TOPIC, COMMAND_TYPES[SOUND_TOPIC])
         self.folder = tempfile.mkdtemp(prefix="baxterface-speech-")
         self.files: Deque[Tuple[str, float]] = deque()  # (path, when it may go), oldest first
         self.playing: Optional[Tuple[str, float]] = None  # (path, when its sound ends)
@@ -65,7 +62,7 @@ class SoundPlaySpeaker(Speaker):
         while self.files and self.files[0][1] <= now:
             with contextlib.suppress(OSError):  # gone already
                 os.remove(self.files.popleft()[0])
-        if self.said == 0 and self.publisher.get_num_connections() == 0:
+        if self.said == 0 and self.publisher.listeners() == 0:
             # A request that nobody hears is dropped without a word: only this tells.
             self.warn(
                 f"nothing listens on {SOUND_TOPIC}, so the face is not heard: start sound_play on this "
@@ -88,15 +85,13 @@ class SoundPlaySpeaker(Speaker):
         shutil.rmtree(self.folder, ignore_errors=True)
 
     def _request(self, command: int, path: str) -> None:
-        self.publisher.publish(
-            self.request(sound=SOUND_PLAY_FILE, command=command, volume=1.0, arg=path, arg2="")
-        )
+        self.publisher.publish(sound=SOUND_PLAY_FILE, command=command, volume=1.0, arg=path, arg2="")
 
 
 class LocalSpeaker(Speaker):
     """The utterance on this machine's own sound device (none there: a warning, once, and silence)."""
 
-    def __init__(self, rospy: Any, warn: Callable[[str], None]) -> None:
+    def __init__(self, link: Any, warn: Callable[[str], None]) -> None:
         from ..speech.sound_device import open_sound
 
         self.sound = open_sound(warn)
@@ -118,6 +113,8 @@ SPEAKERS: Dict[str, Callable[[Any, Callable[[str], None]], Speaker]] = {
     "none": Speaker,
 }
 DEFAULT_AUDIO = "soundplay"  # a Baxter lab's speakers are on a workstation running sound_play
+# ROS 2 has no sound_play in most installs (and none on PyPI): the face speaks here.
+DEFAULT_AUDIO_ROS2 = "local"
 AUDIO_CHOICES = ", ".join(list(SPEAKERS)[:-1]) + " or " + list(SPEAKERS)[-1]
 
 
@@ -125,8 +122,19 @@ class UnknownAudio(ValueError):
     """An audio mode that is not one of SPEAKERS."""
 
 
-def open_speaker(mode: str, rospy: Any, warn: Callable[[str], None], name: str = "~audio") -> Speaker:
-    """The speaker for audio `mode`; UnknownAudio, naming the setting `name`, for no such mode."""
+def default_audio(version: int) -> str:
+    """The audio mode a node or `stream` on ROS `version` takes when given none."""
+    return DEFAULT_AUDIO_ROS2 if version == 2 else DEFAULT_AUDIO
+
+
+def open_speaker(mode: str, link: Any, warn: Callable[[str], None], name: str = "~audio") -> Speaker:
+    """The speaker for audio `mode` on `link`; UnknownAudio, naming the setting `name`, for no
+    such mode, or for sound_play where its messages are missing (most ROS 2 installs)."""
     if mode not in SPEAKERS:
         raise UnknownAudio(f"{name} must be {AUDIO_CHOICES}, not {mode!r}")
-    return SPEAKERS[mode](rospy, warn)
+    if mode == "soundplay" and not link.has(COMMAND_TYPES[SOUND_TOPIC]):
+        raise UnknownAudio(
+            f"{name} soundplay needs sound_play's messages (sound_play/SoundRequest), which this ROS "
+            f"{link.version} does not have: install sound_play, or choose local or none"
+        )
+    return SPEAKERS[mode](link, warn)

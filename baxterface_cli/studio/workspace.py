@@ -96,7 +96,7 @@ class RobotSwitch:
             from ..ros.connect import RosUnavailable, require_master, require_ros
 
             try:
-                require_ros()
+                require_ros(1)
                 require_master(timeout=1.0)
                 from ..ros.chatter import ChatterLink
 

@@ -309,8 +309,13 @@ def test_stream_refuses_an_unknown_audio_mode_before_ros():
 
 def test_node_and_stream_default_to_the_same_audio():
     from baxterface_cli import cli
+    from baxterface_cli.ros.node_settings import NodeSettings
+    from baxterface_cli.ros.speakers import default_audio
 
-    assert inspect.signature(cli.stream).parameters["audio"].default.default == DEFAULT_AUDIO
+    # Not given, stream's --audio is its ROS version's default, which the node takes too.
+    assert inspect.signature(cli.stream).parameters["audio"].default.default is None
+    assert NodeSettings().audio == default_audio(1) == DEFAULT_AUDIO == "soundplay"
+    assert default_audio(2) == "local"
 
 
 def test_the_carried_sound_request_has_the_md5sum_genpy_computes():
