@@ -1,8 +1,10 @@
-"""The frame pump: the preview drawn when the face changes and handed to every open page.
+"""The frame pump: the face drawn when it changes and handed to every open page.
 
 It runs in the server's event loop, at most `fps` times a second and at once
-when woken (after a press); it also tells the pages the preview's status and
-what changed on disk (the script, the panel).
+when woken (after a command); it also tells the pages the face's status (what
+is being said, for the page to play in step) and, for the studio, what
+changed on disk (the script, the panel). The studio's preview and the screen
+both show their face through it.
 """
 
 from __future__ import annotations
@@ -13,22 +15,37 @@ import io
 import sys
 import threading
 import time
-from typing import Any, Optional, Set
+from typing import Any, Callable, Dict, List, Optional, Protocol, Set
 
 from ..drawing.renderer import Renderer
-from .workspace import Workspace
 
 STATUS_EVERY = 0.1  # seconds between status messages to the page
 DISK_EVERY = 0.5  # seconds between looks at the script and the panel on disk
 JPEG_QUALITY = 85
 
 
-def log(message: str) -> None:
-    print(f"baxterface studio: {message}", file=sys.stderr, flush=True)
+def logger(command: str) -> Callable[[str], None]:
+    """One line on standard error, named after the command that serves: `baxterface studio: ...`."""
+
+    def log(message: str) -> None:
+        print(f"baxterface {command}: {message}", file=sys.stderr, flush=True)
+
+    return log
+
+
+log = logger("studio")
+
+
+class Shown(Protocol):
+    """What the pages show: the studio's workspace, or the screen's live face."""
+
+    def face(self) -> Any: ...
+
+    def status(self) -> Dict[str, Any]: ...
 
 
 class Frames:
-    """The preview drawn and encoded: one renderer, one thread at a time."""
+    """The face drawn and encoded: one renderer, one thread at a time."""
 
     def __init__(self, renderer: Renderer) -> None:
         self.renderer = renderer
@@ -71,10 +88,24 @@ class Pages:
 
 
 class Pump:
-    """Draws and sends what the pages show; started by the first request, in the server's loop."""
+    """Draws and sends what the pages show; started by the first request, in the server's loop.
 
-    def __init__(self, workspace: Workspace, frames: Frames, pages: Pages, fps: float) -> None:
-        self.workspace, self.frames, self.pages, self.fps = workspace, frames, pages, fps
+    `watch`, when given, is asked every `DISK_EVERY` seconds (in a thread) for
+    messages to pass on to the pages.
+    """
+
+    def __init__(
+        self,
+        shown: Shown,
+        frames: Frames,
+        pages: Pages,
+        fps: float,
+        log: Callable[[str], None] = log,
+        status_every: float = STATUS_EVERY,
+        watch: Optional[Callable[[], List[Dict[str, Any]]]] = None,
+    ) -> None:
+        self.shown, self.frames, self.pages, self.fps = shown, frames, pages, fps
+        self.log, self.status_every, self.watch = log, status_every, watch
         self._wake: Optional[asyncio.Event] = None
         self._task: Optional[asyncio.Task] = None
 
@@ -92,30 +123,28 @@ class Pump:
         from starlette.concurrency import run_in_threadpool
 
         assert self._wake is not None
-        workspace, pages = self.workspace, self.pages
+        shown, pages = self.shown, self.pages
         last_status = last_disk = 0.0
-        shown: Any = None
+        drawn: Any = None
         heard: Any = []
         while True:
             with contextlib.suppress(asyncio.TimeoutError):
                 await asyncio.wait_for(self._wake.wait(), timeout=1.0 / self.fps)
             self._wake.clear()
             try:
-                face = workspace.face()
-                if pages.queues and face != shown:
+                face = shown.face()
+                if pages.queues and face != drawn:
                     pages.send(await run_in_threadpool(self.frames.jpeg, face))
-                    shown = face
+                    drawn = face
                 now = time.monotonic()
-                status = workspace.status()
+                status = shown.status()
                 # A sound that starts or stops is told at once: the page plays it in step with the frames.
-                if now - last_status >= STATUS_EVERY or status["sounds"] != heard:
+                if now - last_status >= self.status_every or status["sounds"] != heard:
                     pages.send(status)
                     last_status, heard = now, status["sounds"]
-                if now - last_disk >= DISK_EVERY:
+                if self.watch is not None and now - last_disk >= DISK_EVERY:
                     last_disk = now
-                    for change in await run_in_threadpool(workspace.disk_changes):
+                    for change in await run_in_threadpool(self.watch):
                         pages.send(change)
-                        if change["kind"] == "disk":
-                            pages.send({"kind": "timeline", "timeline": workspace.timeline()})
             except Exception as e:  # the pump must not die with one bad frame
-                log(f"preview: {type(e).__name__}: {e}")
+                self.log(f"drawing the face: {type(e).__name__}: {e}")
