@@ -50,19 +50,25 @@ class Frames:
     def __init__(self, renderer: Renderer) -> None:
         self.renderer = renderer
         self.lock = threading.Lock()
-        self.last_state: Any = None
+        self.last_key: Any = None
         self.last_jpeg = b""
+
+    def key(self, state: Any) -> Any:
+        """Equal for two states exactly when their frames are the same (the renderer's frame key)."""
+        with self.lock:
+            return self.renderer.frame_key(state)
 
     def jpeg(self, state: Any) -> bytes:
         from PIL import Image
 
         with self.lock:
-            if state == self.last_state and self.last_jpeg:
+            key = self.renderer.frame_key(state)
+            if key == self.last_key and self.last_jpeg:
                 return self.last_jpeg
             bgr = self.renderer.render(state)
             out = io.BytesIO()
             Image.fromarray(bgr[:, :, ::-1]).save(out, "JPEG", quality=JPEG_QUALITY)
-            self.last_state, self.last_jpeg = state, out.getvalue()
+            self.last_key, self.last_jpeg = key, out.getvalue()
             return self.last_jpeg
 
 
@@ -133,9 +139,10 @@ class Pump:
             self._wake.clear()
             try:
                 face = shown.face()
-                if pages.queues and face != drawn:
+                key = self.frames.key(face)  # a new state may still draw the same frame: none is sent
+                if pages.queues and key != drawn:
                     pages.send(await run_in_threadpool(self.frames.jpeg, face))
-                    drawn = face
+                    drawn = key
                 now = time.monotonic()
                 status = shown.status()
                 # A sound that starts or stops is told at once: the page plays it in step with the frames.
