@@ -98,6 +98,7 @@ def test_the_script_waits_for_the_first_page(screen):
 
 
 def test_a_command_changes_the_frame_and_a_bad_one_gets_a_400_with_diagnostics(screen):
+    assert screen.json("POST", "/api/command", "look_-60_0_0")[0] == 200  # the old node's: at once
     before = decoded(screen.frame())
     status, answer = screen.json("POST", "/api/command", "look_60_0_0")
     assert status == 200 and answer == {"duration": 0.0}
