@@ -11,9 +11,11 @@ server carries on.
 from __future__ import annotations
 
 import asyncio
+import concurrent.futures
 import json
 import re
 import threading
+import time
 from pathlib import Path
 from typing import Any, Awaitable, Callable, Dict, List, Optional, Tuple
 
@@ -187,12 +189,22 @@ class FaceApi:
         """A command from another thread (a ROS subscriber's): played as `POST /api/command` plays
         it, a refusal logged in one line naming `source`. Returns once it is taken or refused, so
         commands from one thread keep their order."""
-        if not self.serving.wait(HANDED_OVER) or self.loop is None or self.loop.is_closed():
+        loop = self.loop if self.serving.wait(HANDED_OVER) else None
+        if loop is None or not loop.is_running():
             return
-        try:
-            asyncio.run_coroutine_threadsafe(self._handed(text, source), self.loop).result(HANDED_OVER)
-        except Exception as e:  # the server stopping, or a command that took too long
-            self.log(f"{source}: not taken: {type(e).__name__}: {e}")
+        taken = asyncio.run_coroutine_threadsafe(self._handed(text, source), loop)
+        deadline = time.monotonic() + HANDED_OVER
+        while True:
+            try:
+                taken.result(0.1)
+                return
+            except concurrent.futures.TimeoutError:
+                if not loop.is_running():  # the server stopped: nothing will take it
+                    return
+                if time.monotonic() > deadline:
+                    taken.cancel()
+                    self.log(f"{source}: not taken: nothing answered in {HANDED_OVER:.0f} s")
+                    return
 
     async def _handed(self, text: str, source: str) -> None:
         try:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import signal
 import subprocess
 import time
 
@@ -45,3 +46,17 @@ def test_display_chatter_plays_on_the_screen_and_a_bad_command_is_logged(roscore
         eventually(lambda: screen.json("GET", "/api/state")[1]["face"]["eye_x"] == 60)
         assert screen.json("POST", "/api/command", "happy")[0] == 200  # and HTTP beside ROS
         eventually(lambda: screen.json("GET", "/api/state")[1]["face"]["emotion"] == "happy")
+        # It stops on SIGTERM while commands keep coming.
+        flood = subprocess.Popen(
+            ["rostopic", "pub", "-r", "50", "/display_chatter", "std_msgs/String", "data: 'look left in 2s'"],
+            env=roscore,
+            stdout=subprocess.DEVNULL,
+        )
+        try:
+            eventually(lambda: screen.json("GET", "/api/state")[1]["duration"] == 2.0)  # the flood plays
+            screen.process.send_signal(signal.SIGTERM)
+            assert screen.process.wait(timeout=60) == 128 + signal.SIGTERM
+        finally:
+            flood.terminate()
+            flood.wait(timeout=30)
+        assert screen.log()[-1] == "baxterface screen: stopped"
