@@ -241,11 +241,23 @@ class FaceApi:
         return Response(wav, media_type="audio/wav", headers={"cache-control": "private, max-age=3600"})
 
     async def live(self, websocket: WebSocket) -> None:
-        """A page's connection: the frame and status now, then whatever the pump sends."""
+        """A page's connection: the frame and status now, then whatever the pump sends, until it closes."""
         self.start()
         await websocket.accept()
         self.opened()
         queue = self.pages.add()
+        # A page that closes is noticed at once, not at the next message sent to it (the close
+        # handshake waits for an answer: a page's tab closed, a screen reloaded).
+        sending, closing = self._send(websocket, queue), _closed(websocket)
+        tasks = {asyncio.ensure_future(sending), asyncio.ensure_future(closing)}
+        try:
+            await asyncio.wait(tasks, return_when=asyncio.FIRST_COMPLETED)
+        finally:
+            for task in tasks:
+                task.cancel()
+            self.pages.remove(queue)
+
+    async def _send(self, websocket: WebSocket, queue: asyncio.Queue) -> None:
         try:
             await websocket.send_bytes(await run_in_threadpool(self.frames.jpeg, self.shown.face()))
             await websocket.send_text(json.dumps(self.shown.status()))
@@ -257,8 +269,6 @@ class FaceApi:
                     await websocket.send_text(json.dumps(item))
         except (WebSocketDisconnect, RuntimeError, OSError):
             pass
-        finally:
-            self.pages.remove(queue)
 
     async def not_here(self, request: Request, exc: Exception) -> Response:
         """Starlette's own 404 and 405, answered in JSON like the rest and logged."""
@@ -266,6 +276,15 @@ class FaceApi:
         why = f"{request.method} is not taken here" if code == 405 else "nothing is here"
         self.log(f"{request.method} {request.url.path}: {code} {why}")
         return JSONResponse({"error": why}, code)
+
+
+async def _closed(websocket: WebSocket) -> None:
+    """Returns once the page has closed its connection (what it sends is not listened to)."""
+    try:
+        while (await websocket.receive())["type"] != "websocket.disconnect":
+            pass
+    except (WebSocketDisconnect, RuntimeError, OSError):
+        pass
 
 
 async def body_text(request: Request) -> str:

@@ -42,7 +42,7 @@ def test_a_bad_script_is_shown_where_it_is_and_nothing_is_served(tmp_path):
     assert run.err.startswith(f"{tmp_path / 'bad.face'}:2:21: error: unknown easing 'eas-in'")
 
 
-@pytest.mark.parametrize("token", ["short", "has a space in it, long enough", "semi;colon-0123456789abcdef"])
+@pytest.mark.parametrize("token", ["short", "semi;colon-0123456789abcdef"])
 def test_a_token_from_the_environment_must_be_long_and_fit_an_address(token):
     env = dict(os.environ, BAXTERFACE_TOKEN=token)
     run = baxterface("screen", "--host", "0.0.0.0", "--no-browser", "--port", "0", env=env)
