@@ -15,7 +15,7 @@ ROS_PACKAGES := ros-core python3-rospy python3-cv-bridge python3-sensor-msgs pyt
 # Xvfb: a screen for the tests of `play`'s window; ffmpeg: ffprobe reads the videos written, and
 # the `ffmpeg` program is what `render` falls back to without PyAV; espeak-ng speaks `say`;
 # PortAudio is what `play` sounds through; sox reads the sounds in the tests; chromium and its
-# driver load the studio's page in the browser tests.
+# driver load the studio's and the screen's pages in the browser tests.
 # What `make play` needs to be heard: espeak-ng speaks `say`, PortAudio is the sound device.
 PLAY_PACKAGES := espeak-ng libespeak-ng1 libportaudio2
 TEST_PACKAGES := $(ROS_PACKAGES) $(PLAY_PACKAGES) python3-venv xvfb ffmpeg sox chromium chromium-driver
@@ -148,6 +148,7 @@ bench: venv venv-ros
 	$(BIN)/python bench/bench_export.py
 	$(VENV_ROS)/bin/python bench/bench_speech.py
 	$(BIN)/python bench/bench_studio.py
+	$(BIN)/python bench/bench_screen.py
 
 # A ROS-ready environment: installs ROS from Debian, then .venv-ros sees it.
 ros: venv-ros

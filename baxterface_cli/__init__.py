@@ -23,6 +23,7 @@ LAYERS = (
     "ros",
     "export",
     "studio",
+    "screen",
     "cli",
 )
 

@@ -26,7 +26,8 @@ import tempfile
 import time
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests" / "support"))
+# The tests' browser and server helpers (which take `needs` from tests/conftest.py).
+sys.path[:0] = [str(Path(__file__).resolve().parent.parent / "tests" / d) for d in ("support", "")]
 
 from browser import chromium, wait_for  # noqa: E402
 from studio_server import baxterface, running_studio  # noqa: E402

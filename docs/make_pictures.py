@@ -502,12 +502,45 @@ def face_following(times=(1.5, 3.2, 5.0, 6.6)) -> Image.Image:
     return sheet(pairs, columns=2)
 
 
+def _test_helpers() -> None:
+    """The tests' browser and server helpers importable (they take `needs` from tests/conftest.py)."""
+    import sys
+
+    tests = Path(__file__).resolve().parent.parent / "tests"
+    for folder in (tests, tests / "support"):
+        if str(folder) not in sys.path:
+            sys.path.insert(0, str(folder))
+
+
+def screen_page(path: Path) -> None:
+    """`baxterface screen` in headless chromium, in a landscape tablet's 1280x800 window, mid-sentence."""
+    _test_helpers()
+    from browser import chromium, wait_for
+    from studio_server import running_screen
+
+    said = 'happy; look 20 -10 in 0.3s; say "Hello! I am on a tablet now."'
+    folder = Path(tempfile.mkdtemp())
+    with running_screen(folder, "--no-idle") as screen, chromium(1280, 800) as driver:
+        driver.execute_cdp_cmd(
+            "Emulation.setDeviceMetricsOverride",
+            {"width": 1280, "height": 800, "deviceScaleFactor": 1, "mobile": False},
+        )
+        driver.get(screen.url)
+        wait_for(driver, "window.screenFace && window.screenFace.frames >= 1")
+        driver.find_element("css selector", "#tap").click()  # sound let in: the prompt goes
+        wait_for(driver, "document.getElementById('tap').hidden")
+        screen.json("POST", "/api/command", said)
+        # In the middle of "tablet", heard on the page as the mouth shapes it.
+        wait_for(driver, "window.screenFace.sounds().some(s => s.t > 1.05)")
+        driver.save_screenshot(str(path))
+    folder.rmdir()
+
+
 def studio_page(path: Path) -> None:
     """The studio's page in headless chromium: a typo underlined, a few presses in the session."""
     import shutil
-    import sys
 
-    sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests" / "support"))
+    _test_helpers()
     from browser import chromium, wait_for
     from studio_server import running_studio
 
@@ -543,6 +576,7 @@ def main() -> None:
     sonar_walk().save(OUT / "sonar-walk.png", optimize=True)
     save_sheet(face_following(), OUT / "face-following.png")
     studio_page(OUT / "studio.png")
+    screen_page(OUT / "screen.png")
     try:
         lipsync().save(OUT / "lipsync.png", optimize=True)
     except MissingTool as e:  # the one picture that speaks
@@ -560,6 +594,7 @@ def main() -> None:
         "face-following.png",
         "lipsync.png",
         "studio.png",
+        "screen.png",
     ):
         print(OUT / name)
 

@@ -119,9 +119,9 @@ def test_console_examples_print_what_the_docs_show(doc, command, expected, doc_f
             subprocess.run(earlier, shell=True, cwd=str(doc_folder), env=doc_env(), capture_output=True)
     if command.startswith("baxterface theme check broken"):
         break_a_theme(doc_folder / "broken")
-    if command.startswith("baxterface studio"):
+    if command.startswith(("baxterface studio", "baxterface screen")):
         return studio_example(command, expected, doc_folder)
-    if command.startswith("curl ") and ":8080/" in command:
+    if command.startswith("curl ") and re.search(r":808[01]/", command):
         return curl_example(command, expected, doc_folder)
     if command.startswith("baxterface play"):
         child = pexpect.spawn("bash", ["-c", command], cwd=str(doc_folder), env=doc_env(), timeout=60)
@@ -140,8 +140,10 @@ def test_console_examples_print_what_the_docs_show(doc, command, expected, doc_f
 
 
 def studio_example(command, expected, folder):
-    """A studio serves until Ctrl-C: it prints what the docs show (on a free port), then stops."""
+    """A studio (or a screen) serves until Ctrl-C: it prints what the docs show (on a free port),
+    then stops."""
     port = str(free_port())
+    served = command.split()[1]
     child = pexpect.spawn(
         "bash",
         ["-c", command.replace("--no-browser", f"--no-browser --port {port}")],
@@ -151,21 +153,26 @@ def studio_example(command, expected, folder):
         encoding="utf-8",
     )
     for line in expected:
-        child.expect_exact(line.replace(":8080/", f":{port}/"))
+        child.expect_exact(re.sub(r":808[01]/", f":{port}/", line))
     child.sendintr()
     child.expect(pexpect.EOF)
     child.close()
-    assert child.exitstatus == 130 and "baxterface studio: stopped" in child.before
+    assert child.exitstatus == 130 and f"baxterface {served}: stopped" in child.before
 
 
 def curl_example(command, expected, folder):
-    """The API examples, against a studio on show.face at a free port in place of 8080."""
-    from studio_server import running_studio
+    """The API examples, against a studio on show.face at a free port in place of 8080, or a
+    screen on hello.face in place of 8081."""
+    from studio_server import running_screen, running_studio
 
-    with running_studio(folder / "show.face") as studio:
+    if ":8081/" in command:
+        server = running_screen(folder, str(folder / "hello.face"))
+    else:
+        server = running_studio(folder / "show.face")
+    with server as studio:
         port = studio.base.rsplit(":", 1)[1]
         run = subprocess.run(
-            command.replace(":8080/", f":{port}/"),
+            re.sub(r":808[01]/", f":{port}/", command),
             shell=True,
             cwd=str(folder),
             env=doc_env(),

@@ -2,7 +2,7 @@
 
 app.py holds what every command shares and the entry point; each command lives
 with its kin (script_commands, play_command, ros_commands, studio_command,
-asset_commands) and is registered here, in the order `--help` lists them.
+screen_command, asset_commands) and is registered here, in the order `--help` lists them.
 """
 
 import typer
@@ -11,6 +11,7 @@ from .app import ROS_ARGS, app, main
 from .asset_commands import theme_check, theme_export, voices
 from .play_command import play
 from .ros_commands import buttons, node, send, stream
+from .screen_command import screen
 from .script_commands import check, explain, render
 from .studio_command import studio
 
@@ -18,7 +19,7 @@ for command in (render, explain, play):
     app.command()(command)
 for command in (node, buttons, send, stream):
     app.command(context_settings=ROS_ARGS)(command)
-for command in (check, studio, voices):
+for command in (check, studio, screen, voices):
     app.command()(command)
 theme_app = typer.Typer(
     help="Themes: the face's layer images. Export the default one to edit, check your own.",

@@ -40,7 +40,12 @@ PUBLISHER = textwrap.dedent(
 
 @pytest.mark.parametrize(
     "command",
-    [["node", "--ros", "2"], ["send", "--ros", "2", "happy"], ["stream", "--ros", "2", "-e", "happy"]],
+    [
+        ["node", "--ros", "2"],
+        ["send", "--ros", "2", "happy"],
+        ["stream", "--ros", "2", "-e", "happy"],
+        ["screen", "--ros", "2", "--no-browser", "--port", "0"],
+    ],
     ids=lambda c: c[0],
 )
 def test_without_rclpy_the_ros2_commands_say_in_one_line_which_extra_brings_it(command, tmp_path):

@@ -553,7 +553,7 @@ def test_scripts_are_parsed_one_at_a_time_and_a_long_queue_is_refused():
     import asyncio
     import threading
 
-    from baxterface_cli.studio.api import HEAVY_WAITING, Busy, Heavy
+    from baxterface_cli.studio.face_api import HEAVY_WAITING, Busy, Heavy
 
     heavy, release = Heavy(), threading.Event()
     running, most = [0], [0]

@@ -21,6 +21,7 @@ DOMAINS = {
     "test_ros2_speech.py": 43,
     "test_docs_ros2.py": 44,
     "test_ros2_launch.py": 45,
+    "test_screen_ros2.py": 46,
 }
 SPARE = range(60, 100)
 

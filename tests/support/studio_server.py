@@ -1,6 +1,8 @@
-"""A real `baxterface studio` in a subprocess, and small HTTP helpers to talk to it.
+"""A real `baxterface studio` (or `baxterface screen`) in a subprocess, and small HTTP helpers to
+talk to it.
 
-Shared by the studio's tests, its browser tests and bench/bench_studio.py.
+Shared by the studio's and the screen's tests, their browser tests and bench/bench_studio.py and
+bench/bench_screen.py.
 """
 
 from __future__ import annotations
@@ -17,7 +19,7 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import Any, Dict, Iterator, List, Optional, Tuple
 
-URL_LINE = re.compile(r"baxterface studio: (http://\S+)")
+URL_LINE = re.compile(r"baxterface (?:studio|screen): (http://\S+)")
 
 
 class Studio:
@@ -67,10 +69,30 @@ def running_studio(
     script: Path, *args: str, timeout: float = 60.0, env: Optional[Dict[str, str]] = None
 ) -> Iterator[Studio]:
     """`baxterface studio SCRIPT --no-browser --port 0 ARGS`, until the block ends."""
-    log = script.parent / f".studio-{os.getpid()}-{time.monotonic_ns()}.log"
+    words = ["studio", str(script), "--no-browser", "--port", "0", "--seed", "7", *args]
+    with running(words, script.parent, timeout, env) as studio:
+        yield studio
+
+
+@contextmanager
+def running_screen(
+    folder: Path, *args: str, port: int = 0, timeout: float = 60.0, env: Optional[Dict[str, str]] = None
+) -> Iterator[Studio]:
+    """`baxterface screen ARGS --no-browser --port PORT`, with its log in `folder`, until the block ends."""
+    words = ["screen", *args, "--no-browser", "--port", str(port), "--seed", "7"]
+    with running(words, folder, timeout, env) as screen:
+        yield screen
+
+
+@contextmanager
+def running(
+    words: List[str], folder: Path, timeout: float = 60.0, env: Optional[Dict[str, str]] = None
+) -> Iterator[Studio]:
+    """`baxterface WORDS`, once it prints its address, until the block ends (SIGTERM)."""
+    log = folder / f".studio-{os.getpid()}-{time.monotonic_ns()}.log"
     with open(log, "w+", encoding="utf-8") as err:
         process = subprocess.Popen(
-            [baxterface(), "studio", str(script), "--no-browser", "--port", "0", "--seed", "7", *args],
+            [baxterface(), *words],
             stdout=subprocess.DEVNULL,
             stderr=err,
             env=dict(env or os.environ, PYTHONUNBUFFERED="1"),
@@ -81,7 +103,7 @@ def running_studio(
             while url is None:
                 if process.poll() is not None or time.monotonic() > deadline:
                     err.seek(0)
-                    raise AssertionError(f"the studio did not start: {err.read()}")
+                    raise AssertionError(f"baxterface {words[0]} did not start: {err.read()}")
                 err.seek(0)
                 found = URL_LINE.search(err.read())
                 url = found.group(1) if found else None

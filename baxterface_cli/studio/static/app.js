@@ -128,7 +128,7 @@
     duration = timeline.duration;
     spans = timeline.spans;
     scriptSounds = timeline.sounds;
-    prefetch(scriptSounds);
+    voice.prefetch(scriptSounds);
     $("scrub").max = String(duration || 1);
     const ol = $("timeline");
     ol.replaceChildren();
@@ -181,119 +181,24 @@
     }
   }
 
-  // -- the sound: what the preview says, played here in step with its clock (Web Audio: to the sample)
+  // -- the sound: what the preview says, played here in step with its clock (sound.js)
 
-  const playingSounds = new Map(); // "key@at" -> {at, source, startedAt, duration, stopped}
-  const buffers = new Map(); // sound key -> Promise of its decoded AudioBuffer
   const HEAR = "click the page to hear the speech";
-  // Seconds the sound may lag or stray from the preview before it is moved into step: a sound that
-  // arrives a moment late starts from its beginning rather than losing its first syllable.
-  const SLACK = 0.15;
-  let audio = null; // the AudioContext, made once sound is first wanted
-  window.__sounds = []; // what was started, for the tests: {key, at, offset}
-
   function soundOn() {
     return $("sound").checked;
   }
-
-  function heardAt(status, receivedAt) {
-    return status.t + (performance.now() - receivedAt) / 1000;
-  }
-
-  function decoded(key) {
-    if (!buffers.has(key)) {
-      if (buffers.size > 64) buffers.clear();
-      const url = `/api/sound/${key}.wav${token ? "?token=" + encodeURIComponent(token) : ""}`;
-      const promise = fetch(url)
-        .then((r) => (r.ok ? r.arrayBuffer() : Promise.reject(new Error(`${r.status} for ${url}`))))
-        .then((bytes) => audio.decodeAudioData(bytes));
-      promise.catch(() => buffers.delete(key)); // asked again next time
-      buffers.set(key, promise);
-    }
-    return buffers.get(key);
-  }
-
-  function sound(entry, buffer, offset) {
-    const source = audio.createBufferSource();
-    source.buffer = buffer;
-    source.connect(audio.destination);
-    source.start(0, offset);
-    source.onended = () => source === entry.source && (entry.source = null);
-    entry.source = source;
-    entry.buffer = buffer;
-    entry.startedAt = audio.currentTime - offset;
-    entry.duration = buffer.duration;
-  }
-
-  function stopSound(id) {
-    const entry = playingSounds.get(id);
-    entry.stopped = true;
-    if (entry.source) entry.source.stop();
-    playingSounds.delete(id);
-  }
-
-  function startSound(id, u, status, receivedAt) {
-    audio = audio || new AudioContext();
-    if (audio.state === "suspended") audio.resume();
-    const entry = { at: u.at, source: null, startedAt: 0, duration: 0, stopped: false };
-    playingSounds.set(id, entry);
-    decoded(u.key).then(
-      (buffer) => {
-        if (entry.stopped) return;
-        if (audio.state !== "running") {
-          // A browser makes sound only once the page was used: asked again with the next status.
-          playingSounds.delete(id);
-          $("notice").textContent = HEAR;
-          return;
-        }
-        const late = heardAt(status, receivedAt) - u.at;
-        if (late >= buffer.duration) return;
-        const offset = late > SLACK ? late : 0;
-        sound(entry, buffer, offset);
-        window.__sounds.push({ key: u.key, at: u.at, offset, late });
-        if ($("notice").textContent === HEAR) $("notice").textContent = "";
-      },
-      () => playingSounds.delete(id),
-    );
-  }
-
-  function playSounds(status, receivedAt) {
-    const wanted = new Set();
-    for (const u of soundOn() ? status.sounds || [] : []) {
-      const id = `${u.key}@${u.at}`;
-      wanted.add(id);
-      const entry = playingSounds.get(id);
-      if (!entry) {
-        startSound(id, u, status, receivedAt);
-      } else if (entry.source) {
-        const due = heardAt(status, receivedAt) - u.at;
-        if (Math.abs(audio.currentTime - entry.startedAt - due) > SLACK + 0.05 && due < entry.duration) {
-          const old = entry.source;
-          sound(entry, entry.buffer, Math.max(0, due)); // sought or slipped: back in step
-          old.stop();
-        }
-      }
-    }
-    for (const [id, entry] of playingSounds) {
-      if (wanted.has(id)) continue;
-      // One that ends a moment before the preview says so finishes; paused, sought away or off, it stops.
-      const left = entry.duration - (audio.currentTime - entry.startedAt);
-      if (soundOn() && status.playing && entry.source && left < 0.25) continue;
-      stopSound(id);
-    }
-  }
-
-  function prefetch(keys) {
-    if (audio && soundOn()) for (const key of keys || []) decoded(key);
-  }
+  const voice = window.BaxterSound({
+    token,
+    isOn: soundOn,
+    needsTap(needed) {
+      if (needed) $("notice").textContent = HEAR;
+      else if ($("notice").textContent === HEAR) $("notice").textContent = "";
+    },
+  });
+  window.__sounds = voice.started; // what was started, for the tests: {key, at, offset}
 
   // The first use of the page may start sound: the context is made then, ready before it is needed.
-  function wake() {
-    if (!soundOn()) return;
-    audio = audio || new AudioContext();
-    if (audio.state === "suspended") audio.resume();
-    prefetch(scriptSounds);
-  }
+  const wake = () => voice.wake(scriptSounds);
   document.addEventListener("pointerdown", wake);
   document.addEventListener("keydown", wake);
 
@@ -319,7 +224,7 @@
       const message = JSON.parse(event.data);
       if (message.kind === "status") {
         showStatus(message);
-        playSounds(message, performance.now());
+        voice.play(message, performance.now());
       }
       else if (message.kind === "disk") diskChanged(message);
       else if (message.kind === "timeline") showTimeline(message.timeline);
@@ -597,7 +502,7 @@
     $("sound").checked = localStorage.getItem("baxterface.sound") !== "off";
     $("sound").onchange = () => {
       localStorage.setItem("baxterface.sound", soundOn() ? "on" : "off");
-      if (!soundOn()) playSounds({ sounds: [], playing: false }, performance.now());
+      if (!soundOn()) voice.silence();
     };
     const scrub = $("scrub");
     scrub.onpointerdown = () => (dragging = true);
@@ -632,9 +537,7 @@
       const { data } = await api("POST", "/api/session/clear");
       showSession(data);
     };
-    const sounds = () =>
-      [...playingSounds.values()].map((e) => ({ at: e.at, t: audio.currentTime - e.startedAt, paused: !e.source }));
-    window.studio = { editor, press, api, sounds, moodLine, intensityLine };
+    window.studio = { editor, press, api, sounds: voice.sounds, moodLine, intensityLine };
     connect();
   }
 

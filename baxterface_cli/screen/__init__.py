@@ -1,0 +1,1 @@
+"""The screen: the face alone, for any screen with a browser, served through the studio's web API."""

@@ -1,0 +1,332 @@
+"""The web API a face is shown through, shared by the studio and the screen.
+
+The page itself, commands (`POST /api/command`, and the same path for a
+command heard elsewhere, as on ROS), the frame now, the sounds of what is
+said, and the WebSocket that pushes frames and status to every open page.
+Imported only once the `studio` extra is known to be there. A request that
+goes wrong is answered in JSON with its error and logged in one line; the
+server carries on.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import concurrent.futures
+import json
+import re
+import threading
+import time
+from pathlib import Path
+from typing import Any, Awaitable, Callable, Dict, List, Optional, Tuple
+
+from starlette.applications import Starlette
+from starlette.concurrency import run_in_threadpool
+from starlette.exceptions import HTTPException
+from starlette.requests import Request
+from starlette.responses import FileResponse, JSONResponse, Response
+from starlette.routing import Mount, Route, WebSocketRoute
+from starlette.staticfiles import StaticFiles
+from starlette.websockets import WebSocket, WebSocketDisconnect
+
+from ..core.tables import LIMITS
+from ..drawing.renderer import Renderer
+from ..extras import MissingTool
+from ..language.diagnostics import ScriptError, shortened
+from .guard import Guard
+from .pump import STATUS_EVERY, Frames, Pages, Pump, Shown
+from .workspace import diagnostics_json
+
+STATIC = Path(__file__).resolve().parent / "static"
+SOUND_KEY = re.compile(r"[0-9a-f]{16}")  # as `preview.sound_key` makes them
+HEAVY_WAITING = 16  # scripts waiting to be parsed before more are refused
+LOGGED = 300  # characters of an error's reason the log keeps: one line, whatever was sent
+HANDED_OVER = 30.0  # seconds a command from another thread waits to be taken
+Handler = Callable[[Any, Request], Awaitable[Response]]
+
+
+class TooLarge(Exception):
+    pass
+
+
+class BadRequest(Exception):
+    pass
+
+
+class Busy(Exception):
+    pass
+
+
+class Heavy:
+    """Parsing and compiling scripts, one at a time, with a bounded queue.
+
+    They are pure Python and hold the GIL: run side by side, a flood of them
+    took the frame pump's turns and the preview stopped for seconds. One at a
+    time, the pump gets the GIL back within a switch interval; past
+    `HEAVY_WAITING` requests waiting, more are refused (429) rather than queued.
+    """
+
+    def __init__(self) -> None:
+        self._one: Optional[asyncio.Semaphore] = None  # made in the server's loop (Python 3.8)
+        self.waiting = 0
+
+    async def run(self, work: Callable[..., Any], *args: Any) -> Any:
+        if self._one is None:
+            self._one = asyncio.Semaphore(1)
+        if self.waiting >= HEAVY_WAITING:
+            raise Busy(f"busy: {self.waiting} scripts are waiting to be checked; try again in a moment")
+        self.waiting += 1
+        try:
+            async with self._one:
+                return await run_in_threadpool(work, *args)
+        finally:
+            self.waiting -= 1
+
+
+def answered(handler: Handler) -> Handler:
+    """A route whose failures are answered in JSON and logged, never raised to the server."""
+
+    async def wrapped(self: FaceApi, request: Request) -> Response:
+        self.start()
+        try:
+            response = await handler(self, request)
+        except Busy as e:
+            response = JSONResponse({"error": str(e)}, 429, headers={"retry-after": "1"})
+        except TooLarge:
+            response = JSONResponse({"error": f"too large: the limit is {LIMITS.max_bytes} bytes"}, 413)
+        except BadRequest as e:
+            response = JSONResponse({"error": str(e)}, 400)
+        except Exception as e:  # logged and answered; the server carries on
+            response = JSONResponse({"error": f"{type(e).__name__}: {e}"}, 500)
+        if response.status_code >= 400:
+            self.log(f"{request.method} {request.url.path}: {response.status_code} {_reason(response)}")
+        return response
+
+    return wrapped
+
+
+class FaceApi:
+    """The routes every page that shows a face needs, over what it shows (`shown`).
+
+    A subclass adds its own routes (`routes`), says what a command does
+    (`take`, in a worker thread; `told`, in the loop once it is taken), and
+    what a page opening means (`opened`).
+    """
+
+    page = STATIC / "index.html"
+
+    def __init__(
+        self,
+        shown: Shown,
+        renderer: Renderer,
+        fps: float,
+        log: Callable[[str], None],
+        status_every: float = STATUS_EVERY,
+        watch: Optional[Callable[[], List[Dict[str, Any]]]] = None,
+    ) -> None:
+        self.shown = shown
+        self.log = log
+        self.frames = Frames(renderer)
+        self.pages = Pages()
+        self.pump = Pump(shown, self.frames, self.pages, fps, log, status_every, watch)
+        self.heavy = Heavy()
+        self.loop: Optional[asyncio.AbstractEventLoop] = None
+        self.serving = threading.Event()
+
+    def app(self, token: Optional[str] = None) -> Guard:
+        """The ASGI application, behind its guard (loopback, same site, the token)."""
+        app = Starlette(routes=self.routes(), exception_handlers={HTTPException: self.not_here})
+        return Guard(app, token, self.log)
+
+    def routes(self) -> list:
+        return self.face_routes()
+
+    def face_routes(self) -> list:
+        return [
+            Route("/", self.index),
+            Route("/api/command", self.command, methods=["POST"]),
+            Route("/api/frame.jpg", self.frame),
+            Route("/api/sound/{key}.wav", self.sound),
+            WebSocketRoute("/api/live", self.live),
+            Mount("/static", StaticFiles(directory=str(STATIC), check_dir=False), name="static"),
+        ]
+
+    def start(self) -> None:
+        """In the server's loop: the pump runs, and other threads may hand commands over."""
+        if self.loop is None:
+            self.loop = asyncio.get_running_loop()
+            self.serving.set()
+        self.pump.start()
+
+    # -- what a subclass says
+
+    def take(self, text: str) -> Dict[str, Any]:
+        """Play a command (in a worker thread): the answer, or ScriptError."""
+        raise NotImplementedError
+
+    def told(self, answer: Dict[str, Any]) -> None:
+        """A command was taken (in the loop)."""
+
+    def opened(self) -> None:
+        """A page opened its live connection."""
+
+    # -- commands: one path, whether they come over HTTP or from another thread
+
+    async def perform(self, text: str) -> Tuple[int, Dict[str, Any]]:
+        """A command, as `POST /api/command` takes it: (status code, answer). Busy when too many wait."""
+        if not text.strip():
+            return 400, {"diagnostics": [_problem("no command: the body is empty")]}
+        try:
+            answer = await self.heavy.run(self.take, text)
+        except ScriptError as e:
+            return 400, {"diagnostics": diagnostics_json(e.diagnostics)}
+        except MissingTool as e:  # `say` with no speech engine here
+            return 400, {"diagnostics": [_problem(str(e))]}
+        self.pump.wake()
+        self.told(answer)
+        return 200, answer
+
+    def hand_over(self, text: str, source: str) -> None:
+        """A command from another thread (a ROS subscriber's): played as `POST /api/command` plays
+        it, a refusal logged in one line naming `source`. Returns once it is taken or refused, so
+        commands from one thread keep their order."""
+        loop = self.loop if self.serving.wait(HANDED_OVER) else None
+        if loop is None or not loop.is_running():
+            return
+        taken = asyncio.run_coroutine_threadsafe(self._handed(text, source), loop)
+        deadline = time.monotonic() + HANDED_OVER
+        while True:
+            try:
+                taken.result(0.1)
+                return
+            except concurrent.futures.TimeoutError:
+                if not loop.is_running():  # the server stopped: nothing will take it
+                    return
+                if time.monotonic() > deadline:
+                    taken.cancel()
+                    self.log(f"{source}: not taken: nothing answered in {HANDED_OVER:.0f} s")
+                    return
+
+    async def _handed(self, text: str, source: str) -> None:
+        try:
+            code, answer = await self.perform(text)
+        except Busy as e:
+            code, answer = 429, {"error": str(e)}
+        except Exception as e:  # logged; the server carries on
+            code, answer = 500, {"error": f"{type(e).__name__}: {e}"}
+        if code >= 400:
+            self.log(f"{source}: {code} {reason_of(answer)}")
+
+    # -- the routes
+
+    @answered
+    async def index(self, request: Request) -> Response:
+        return FileResponse(self.page, headers={"cache-control": "no-store"})
+
+    @answered
+    async def command(self, request: Request) -> Response:
+        code, answer = await self.perform(await body_text(request))
+        return JSONResponse(answer, code)
+
+    @answered
+    async def frame(self, request: Request) -> Response:
+        jpeg = await run_in_threadpool(self.frames.jpeg, self.shown.face())
+        return Response(jpeg, media_type="image/jpeg", headers={"cache-control": "no-store"})
+
+    @answered
+    async def sound(self, request: Request) -> Response:
+        key = request.path_params["key"]
+        wav = await run_in_threadpool(self.shown.sound, key) if SOUND_KEY.fullmatch(key) else None
+        if wav is None:
+            return JSONResponse({"error": "no such sound in what the face says"}, 404)
+        return Response(wav, media_type="audio/wav", headers={"cache-control": "private, max-age=3600"})
+
+    async def live(self, websocket: WebSocket) -> None:
+        """A page's connection: the frame and status now, then whatever the pump sends, until it closes."""
+        self.start()
+        await websocket.accept()
+        self.opened()
+        queue = self.pages.add()
+        # A page that closes is noticed at once, not at the next message sent to it (the close
+        # handshake waits for an answer: a page's tab closed, a screen reloaded).
+        sending, closing = self._send(websocket, queue), _closed(websocket)
+        tasks = {asyncio.ensure_future(sending), asyncio.ensure_future(closing)}
+        try:
+            await asyncio.wait(tasks, return_when=asyncio.FIRST_COMPLETED)
+        finally:
+            for task in tasks:
+                task.cancel()
+            self.pages.remove(queue)
+
+    async def _send(self, websocket: WebSocket, queue: asyncio.Queue) -> None:
+        try:
+            await websocket.send_bytes(await run_in_threadpool(self.frames.jpeg, self.shown.face()))
+            await websocket.send_text(json.dumps(self.shown.status()))
+            while True:
+                item = await queue.get()
+                if isinstance(item, bytes):
+                    await websocket.send_bytes(item)
+                else:
+                    await websocket.send_text(json.dumps(item))
+        except (WebSocketDisconnect, RuntimeError, OSError):
+            pass
+
+    async def not_here(self, request: Request, exc: Exception) -> Response:
+        """Starlette's own 404 and 405, answered in JSON like the rest and logged."""
+        code = getattr(exc, "status_code", 404)
+        why = f"{request.method} is not taken here" if code == 405 else "nothing is here"
+        self.log(f"{request.method} {request.url.path}: {code} {why}")
+        return JSONResponse({"error": why}, code)
+
+
+async def _closed(websocket: WebSocket) -> None:
+    """Returns once the page has closed its connection (what it sends is not listened to)."""
+    try:
+        while (await websocket.receive())["type"] != "websocket.disconnect":
+            pass
+    except (WebSocketDisconnect, RuntimeError, OSError):
+        pass
+
+
+async def body_text(request: Request) -> str:
+    """The body as text, read no further than the largest script the server takes."""
+    chunks, size = [], 0
+    async for chunk in request.stream():
+        chunks.append(chunk)
+        size += len(chunk)
+        if size > LIMITS.max_bytes + 1024:
+            raise TooLarge()
+    return b"".join(chunks).decode("utf-8", "replace")
+
+
+async def body_json(request: Request) -> Dict[str, Any]:
+    try:
+        value = json.loads(await body_text(request) or "{}")
+    except ValueError as e:
+        raise BadRequest(f"the body must be JSON: {e}") from None
+    if not isinstance(value, dict):
+        raise BadRequest("the body must be a JSON object")
+    return value
+
+
+def reason_of(answer: Dict[str, Any]) -> str:
+    """What an error answer says, for the log: its error, or its first diagnostic."""
+    try:
+        if "diagnostics" in answer:
+            first = answer["diagnostics"][0]
+            place = f"{first['line']}:{first['column']}: " if first["line"] else ""
+            return shortened(f"{place}{first['message']}", LOGGED)
+        return shortened(str(answer["error"]), LOGGED)
+    except (KeyError, IndexError, TypeError):
+        return "(no reason given)"
+
+
+def _reason(response: Any) -> str:
+    try:
+        return reason_of(json.loads(bytes(response.body)))
+    except (ValueError, AttributeError):
+        return "(no reason given)"
+
+
+def _problem(message: str) -> Dict[str, Any]:
+    """A diagnostic with no place in the text."""
+    return {"line": 0, "column": 0, "severity": "error", "message": message}

@@ -1,0 +1,151 @@
+"""The screen over HTTP and its WebSocket: a real `baxterface screen`, one for the module.
+
+It serves off loopback with the token it was given, so every request here carries it.
+"""
+
+from __future__ import annotations
+
+import io
+import json
+import time
+import wave
+from contextlib import ExitStack, contextmanager
+from typing import Iterator, List
+
+import numpy as np
+import pytest
+
+from studio_server import running_screen
+
+pytestmark = pytest.mark.xdist_group("screen_web")
+TOKEN = "screen-test-token-0123456789"
+
+
+@pytest.fixture(scope="module")
+def screen(tmp_path_factory):
+    import os
+
+    folder = tmp_path_factory.mktemp("screen")
+    (folder / "first.face").write_text("sad\nlook left in 0.3s\n")
+    env = dict(os.environ, BAXTERFACE_TOKEN=TOKEN)
+    args = (str(folder / "first.face"), "--no-idle", "--host", "0.0.0.0")
+    with running_screen(folder, *args, env=env) as server:
+        server.before = server.json("GET", "/api/state")[1]  # before any page has opened
+        server.base = "http://127.0.0.1:" + server.base.rsplit(":", 1)[1]
+        yield server
+
+
+def decoded(jpeg: bytes) -> np.ndarray:
+    from PIL import Image
+
+    return np.asarray(Image.open(io.BytesIO(jpeg)).convert("RGB"), dtype=np.int16)
+
+
+class Page:
+    """A page's live connection, as the screen's page opens it: frames and status messages."""
+
+    def __init__(self, ws) -> None:
+        self.ws = ws
+        self.frames = []
+        self.statuses = []
+
+    def next(self, timeout: float = 30.0):
+        message = self.ws.recv(timeout=timeout)
+        if isinstance(message, bytes):
+            self.frames.append(message)
+        else:
+            self.statuses.append(json.loads(message))
+        return message
+
+    def until(self, test, timeout: float = 30.0):
+        deadline = time.monotonic() + timeout
+        while True:
+            message = self.next(max(0.01, deadline - time.monotonic()))
+            if test(message):
+                return message
+
+
+@contextmanager
+def pages(screen, count: int = 1) -> Iterator[List[Page]]:
+    """`count` pages connected to the screen, until the block ends."""
+    from websockets.sync.client import connect
+
+    url = screen.base.replace("http://", "ws://") + "/api/live"
+    with ExitStack() as stack:
+        yield [
+            Page(stack.enter_context(connect(url, additional_headers={"X-Baxterface-Token": TOKEN})))
+            for _ in range(count)
+        ]
+
+
+def test_off_loopback_every_request_needs_the_token_it_was_given(screen):
+    assert screen.token == TOKEN  # BAXTERFACE_TOKEN's: a restart keeps the pages' address good
+    status, answer = screen.request("GET", "/api/state", headers={"X-Baxterface-Token": "wrong"})
+    assert status == 403 and json.loads(answer)["error"].startswith("the token is wrong")
+    status, answer = screen.request("GET", "/", headers={"X-Baxterface-Token": ""})
+    assert status == 403 and json.loads(answer)["error"].startswith("a token is needed")
+    status, page = screen.request("GET", f"/?token={TOKEN}", headers={"X-Baxterface-Token": ""})
+    assert status == 200 and b"/static/screen/screen.js" in page
+    assert screen.request("GET", "/static/sound.js")[0] == 200
+    assert screen.request("GET", "/static/screen/screen.css")[0] == 200
+
+
+def test_the_script_waits_for_the_first_page(screen):
+    assert screen.before["waiting"] and screen.before["script"].endswith("first.face")
+    with pages(screen) as (page,):
+        page.until(lambda m: isinstance(m, bytes))
+        assert not screen.json("GET", "/api/state")[1]["waiting"]
+
+
+def test_a_command_changes_the_frame_and_a_bad_one_gets_a_400_with_diagnostics(screen):
+    assert screen.json("POST", "/api/command", "look_-60_0_0")[0] == 200  # the old node's: at once
+    before = decoded(screen.frame())
+    status, answer = screen.json("POST", "/api/command", "look_60_0_0")
+    assert status == 200 and answer == {"duration": 0.0}
+    assert np.abs(decoded(screen.frame()) - before).mean() > 1.0  # the eyes moved
+    asked = [
+        ("hapy", "unknown command 'hapy'; did you mean 'happy'?", "1:1: "),
+        ("look 40 -20 in 0.5s eas-in", "unknown easing 'eas-in'", "1:21: "),
+        ("mood 1.2 0", "valence must be from -1 to 1, not 1.2", "1:6: "),
+        ("  ", "no command: the body is empty", ""),
+    ]
+    for text, message, _ in asked:
+        status, answer = screen.json("POST", "/api/command", text)
+        assert status == 400 and answer["diagnostics"][0]["message"].startswith(message)
+    logged = [line for line in screen.log() if "POST /api/command" in line]
+    for (_, message, place), line in zip(asked, logged[-len(asked) :]):
+        assert line.startswith(f"baxterface screen: POST /api/command: 400 {place}{message}")
+
+
+def test_every_page_gets_each_changed_frame_and_none_while_the_face_is_still(screen):
+    with pages(screen, 2) as watching:
+        for page in watching:
+            page.until(lambda m: isinstance(m, str))  # the frame now, then the status
+        assert screen.json("GET", "/api/state")[1]["screens"] == 2
+        duration = screen.json("POST", "/api/command", "look right in 0.5s")[1]["duration"]
+        for page in watching:
+            page.frames.clear()
+            # Past the move's end by a status or two: the status goes on every second, frames do not.
+            page.until(lambda m: isinstance(m, str) and json.loads(m)["t"] > duration + 1.2)
+            assert len(page.frames) >= 5  # the move, frame by frame (30 a second at most)
+            assert all(a != b for a, b in zip(page.frames, page.frames[1:]))  # each one a change
+            ended = len(page.frames)
+            page.until(lambda m: isinstance(m, str))  # a second more of a still face
+            assert len(page.frames) == ended
+        assert watching[0].frames[-1] == watching[1].frames[-1] == screen.frame()  # one face on both
+
+
+def test_the_state_says_what_the_face_does_and_what_is_said_is_served_as_wav(screen, engine):
+    said = "This is the screen speaking, slowly enough to be asked about."
+    assert screen.json("POST", "/api/command", f'happy\nsay "{said}"')[0] == 200
+    deadline = time.monotonic() + 30
+    while not (state := screen.json("GET", "/api/state")[1])["sounds"]:
+        assert time.monotonic() < deadline, state
+        time.sleep(0.05)
+    assert state["saying"] == said and state["face"]["emotion"] == "happy"
+    code, wav = screen.request("GET", f"/api/sound/{state['sounds'][0]['key']}.wav")
+    assert code == 200
+    with wave.open(io.BytesIO(wav)) as w:
+        samples = np.frombuffer(w.readframes(w.getnframes()), "<i2")
+    assert np.array_equal(samples, engine.say(said).samples)
+    assert screen.request("GET", "/api/sound/0123456789abcdef.wav")[0] == 404
