@@ -22,7 +22,7 @@ TEST_PACKAGES := $(ROS_PACKAGES) $(PLAY_PACKAGES) python3-venv xvfb ffmpeg sox c
 # `make play` installs what playing needs; `make studio` adds the studio; the tests take everything.
 PLAY_EXTRAS := speech
 STUDIO_EXTRAS := speech,studio
-EXTRAS := test,video,bag,speech,camera,studio
+EXTRAS := test,video,bag,speech,lipsync,camera,studio
 PIP_QUIET := --quiet --disable-pip-version-check
 # pytest workers for each Python suite (they run beside each other and the ROS suite)
 JOBS ?= 2

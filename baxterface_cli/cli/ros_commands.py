@@ -119,7 +119,7 @@ def send(
         raise fail("baxterface send: nothing to send; give a COMMAND, -f FILE or --stdin", 2)
     what = ""
     if file is not None:
-        script = script_from(file, None, "send")
+        script = script_from(file, None, "send", recordings=False)  # the node reads its own
         text = script.source
         what = f"{script.filename} ({len(text.splitlines())} lines)"
     elif text_words:

@@ -172,7 +172,7 @@ class FaceNode:
 
     def _speak(self, effect: Speech) -> None:
         # Timed here, not by the script's status: a take-over restarts the script's clock.
-        self.saying = (effect.utterance.text, time.monotonic() + effect.duration)
+        self.saying = (effect.utterance.said, time.monotonic() + effect.duration)
         self.speaker.speak(effect)
 
     # -- the loop

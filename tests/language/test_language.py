@@ -245,7 +245,21 @@ def test_keyword_list_matches_the_grammar():
         value = getattr(terminal.pattern, "value", "")
         if re.fullmatch(r"[a-z]+", value):
             statement_starters.add(value)
-    contextual = {"in", "up", "arm", "human", "face", "off", "left", "right", "voice", "rate", "file", "text", "language"}
+    contextual = {
+        "in",
+        "up",
+        "arm",
+        "human",
+        "face",
+        "off",
+        "left",
+        "right",
+        "voice",
+        "rate",
+        "file",
+        "text",
+        "language",
+    }
     assert statement_starters - contextual == set(KEYWORDS)
 
 
