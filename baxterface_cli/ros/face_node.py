@@ -30,6 +30,7 @@ from ..engine.effects import Speech
 from ..engine.intake import Intake
 from ..engine.live_face import LiveFace, sleep_face
 from ..robot.camera_watch import CameraWatch
+from ..speech.recordings import Recordings
 from .messages import message_class
 from .node_settings import NodeSettings, SettingError, theme_layers
 from .robot_link import WARN_EVERY, connect_robot
@@ -79,14 +80,23 @@ class FaceNode:
             raise not_kept(e, rospy, argv) from None
         self.fps = settings.fps
         self.renderer = Renderer(layers)
-        self.live = LiveFace(start=sleep_face(), idle=settings.idle, now=time.monotonic())
+        levels = {"info": rospy.loginfo, "warn": rospy.logwarn, "error": rospy.logerr}
+        self.log = Backlog(lambda level, text: levels[level](text))  # never logs from the loop
+        # Commands come from anyone on the ROS network: `say file` reads only under ~recordings.
+        recordings = Recordings(
+            settings.recordings,
+            confined=True,
+            warn=self.log.warn,
+            refusal="this face node reads no recordings; start it with _recordings:=FOLDER",
+        )
+        self.live = LiveFace(
+            start=sleep_face(), idle=settings.idle, now=time.monotonic(), recordings=recordings
+        )
         self.String, self.Image = String, Image
         self.bridge = cv_bridge.CvBridge()
 
         self.image_pub = rospy.Publisher(settings.display_topic, Image, latch=True, queue_size=1)
         self.state_pub = rospy.Publisher("~state", String, latch=True, queue_size=1)
-        levels = {"info": rospy.loginfo, "warn": rospy.logwarn, "error": rospy.logerr}
-        self.log = Backlog(lambda level, text: levels[level](text))  # never logs from the loop
         self.speaker = open_speaker(settings.audio, rospy, self.log.warn)
         self.saying: Optional[Tuple[str, float]] = None  # (text, when it ends) while the face speaks
         self.camera_topic = settings.camera

@@ -27,6 +27,7 @@ from ..extras import MissingTool
 from ..language.diagnostics import Diagnostic, ScriptError
 from ..language.parser import decode, grammar_words, parse, read_bounded
 from ..language.vocabulary import BARE_WORDS
+from ..speech.recordings import RecordingError, Recordings
 from ..speech.soundtrack import write_wav
 from .panel import Button, PanelError, load_panel
 from .preview import Preview, sound_key
@@ -143,7 +144,10 @@ class Workspace:
         self.panel_path = panel
         self.clock = clock
         self.lock = threading.RLock()
-        self.preview = Preview(seed, idle, filename="session.face")
+        # The page's text and presses come over the network: `say file` reads only under the
+        # script's own folder.
+        self.recordings = Recordings(self.folder, confined=True)
+        self.preview = Preview(seed, idle, filename="session.face", recordings=self.recordings)
         self.robot = RobotSwitch(topic)
         self.buttons: List[Button] = load_panel(panel)
         self.preview_note = ""
@@ -177,6 +181,11 @@ class Workspace:
                 self.text = text
             return {"diagnostics": diagnostics_json(e.diagnostics), "timeline": self.timeline()}
         diagnostics = diagnostics_json(list(script.warnings))
+        unsaid = self.recordings.check(script) if "file" in text.lower() else []
+        if unsaid:  # a recording missing or unreadable: an error, where it is named, as check says
+            with self.lock:
+                self.text = text
+            return {"diagnostics": diagnostics_json(unsaid) + diagnostics, "timeline": self.timeline()}
         with self.lock:
             self.text = text
             try:
@@ -185,6 +194,8 @@ class Workspace:
             except MissingTool as e:  # `say` with no speech engine: check is content, play is not
                 self.preview_note = str(e)
                 diagnostics.append({"line": 0, "column": 0, "severity": "warning", "message": str(e)})
+            except RecordingError as e:  # changed on disk since it was checked
+                diagnostics = diagnostics_json([e.diagnostic()]) + diagnostics
         return {"diagnostics": diagnostics, "timeline": self.timeline()}
 
     def timeline(self) -> Dict[str, Any]:
