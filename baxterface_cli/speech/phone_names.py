@@ -5,7 +5,7 @@ recording's phones are renamed into them (`ESPEAK_NAMES`), with what the
 names alone do not carry:
 
 - A stop (p, t, k, b, d, g, ch, j) starts at its burst, as espeak-ng reports
-  its stops: the silent closure before it is the sound before's.
+  its stops: the silent closure before it is the sound's (or the pause's) before.
 - An r after a vowel, not before one ("there", "more"), is the vowel's: it
   colours the vowel, as espeak-ng's "e@", "O@" do, and the mouth holds it.
 - AH is "cup" (open) or the unstressed "the", "a" (slight): louder than the
@@ -101,14 +101,26 @@ def _peak(loud: np.ndarray, start: float, end: float) -> float:
 
 
 def _stops_at_their_bursts(spans: List[list], loud: np.ndarray) -> None:
-    for i in range(1, len(spans)):
+    """Each stop from its burst: its first frame at BURST of its loudest, or, when all of it is
+    closure (as after a pause, a burst falling in the next phone's first frame), that frame."""
+    if not len(loud):
+        return
+    floor, high = np.percentile(loud, 5), np.percentile(loud, 90)
+    audible = loud > max(3.0 * floor, 0.05 * high)
+    for i in range(len(spans)):
         start, end, name = spans[i]
-        if name not in STOPS or spans[i - 1][2] not in ESPEAK_NAMES:
+        if name not in STOPS:
             continue
         a, b = int(round(start / FRAME)), min(len(loud), int(round(end / FRAME)))
-        piece = loud[a:b]
-        if len(piece) < 2:
+        if b <= a:
             continue
+        if not audible[a:b].any() and i + 1 < len(spans) and spans[i + 1][1] - end > 2 * FRAME:
+            spans[i][0], spans[i][1] = end, end + FRAME
+            spans[i + 1][0] = end + FRAME
+            if i:
+                spans[i - 1][1] = end
+            continue
+        piece = loud[a:b]
         burst = a + int(np.argmax(piece >= BURST * piece.max()))
-        if burst > a:
+        if burst > a and i:
             spans[i][0] = spans[i - 1][1] = burst * FRAME

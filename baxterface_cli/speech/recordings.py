@@ -201,8 +201,8 @@ class Recordings:
             method = "aligned" if heard.aligned else "heard"
         record = {
             "method": method,
-            "phonemes": [[round(p.at, 4), round(p.end, 4), p.name] for p in phonemes],
-            "words": [[round(w.at, 4), w.text] for w in words],
+            "phonemes": [[p.at, p.end, p.name] for p in phonemes],  # as they are: JSON keeps every bit
+            "words": [[w.at, w.text] for w in words],
         }
         try:
             folder.mkdir(parents=True, exist_ok=True)
