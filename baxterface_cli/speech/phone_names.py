@@ -7,7 +7,10 @@ names alone do not carry:
 - A stop (p, t, k, b, d, g, ch, j) starts at its burst, as espeak-ng reports
   its stops: the silent closure before it is the sound's (or the pause's) before.
 - An r after a vowel, not before one ("there", "more"), is the vowel's: it
-  colours the vowel, as espeak-ng's "e@", "O@" do, and the mouth holds it.
+  colours the vowel, as espeak-ng's "e@", "O@" do, and the mouth holds it;
+  an l there ("bill", "cold") is half the vowel's, the dark l's vowel colour.
+- The "th" of "the", "this" before its vowel is short, as espeak-ng says it
+  (`SHORT_DH`); pocketsphinx's runs on into the vowel.
 - AH is "cup" (open) or the unstressed "the", "a" (slight): louder than the
   recording's middling vowel, the first.
 
@@ -36,6 +39,7 @@ PAUSE = "_"  # silence, and pocketsphinx's noises (+NSN+, +SPN+, +BREATH+...)
 STOPS = frozenset(["P", "B", "T", "D", "K", "G", "CH", "JH"])
 VOWELS = frozenset(["AA", "AE", "AH", "AO", "AW", "AY", "EH", "ER", "EY", "IH", "IY", "OW", "OY", "UH", "UW"])
 BURST = 0.3  # a stop's burst: its first frame this loud, relative to its loudest
+SHORT_DH = 0.03  # the longest a "th" of "the", "this" lasts before its vowel
 
 # espeak-ng's English phonemes in pocketsphinx's phones, to spell the words its dictionary lacks.
 SPELLINGS: Dict[str, Tuple[str, ...]] = {
@@ -75,6 +79,9 @@ def espeak_phonemes(
     loud = frame_loudness(sound, rate)
     spans = [[start, end, name] for start, end, name in phones]
     _stops_at_their_bursts(spans, loud)
+    for i in range(len(spans) - 1):
+        if spans[i][2] == "DH" and spans[i + 1][2] in VOWELS and spans[i][1] - spans[i][0] > SHORT_DH:
+            spans[i][1] = spans[i + 1][0] = spans[i][0] + SHORT_DH
     peaks = [_peak(loud, start, end) for start, end, _ in spans]
     vowels = [peak for peak, (_, _, name) in zip(peaks, spans) if name in VOWELS]
     middling = float(np.median(vowels)) if vowels else 0.0
@@ -87,6 +94,10 @@ def espeak_phonemes(
         if name == "R" and before in VOWELS and after not in VOWELS and out:
             out[-1] = out[-1]._replace(end=end)
             continue
+        if name == "L" and before in VOWELS and after not in VOWELS and out:
+            middle = (start + end) / 2
+            out[-1] = out[-1]._replace(end=middle)
+            start = middle
         espeak = ESPEAK_NAMES.get(name, PAUSE)
         if name == "AH" and peaks[i] < middling:
             espeak = SCHWA
@@ -121,6 +132,12 @@ def _stops_at_their_bursts(spans: List[list], loud: np.ndarray) -> None:
                 spans[i - 1][1] = end
             continue
         piece = loud[a:b]
-        burst = a + int(np.argmax(piece >= BURST * piece.max()))
-        if burst > a and i:
+        strong = piece >= BURST * piece.max()
+        # The closure is the quiet after what is left of the sound before; the burst ends it.
+        quiet = np.flatnonzero(~strong)
+        if not len(quiet) or not i:
+            continue
+        after = np.flatnonzero(strong[quiet[0] :])
+        burst = a + quiet[0] + (int(after[0]) if len(after) else len(piece) - 1 - quiet[0])
+        if burst > a:
             spans[i][0] = spans[i - 1][1] = burst * FRAME

@@ -219,7 +219,7 @@ def heard_rules(samples: np.ndarray, rate: int, rules: MouthRules = MOUTH_RULES)
     """
     loudness = frame_loudness(samples, rate)
     floor = float(np.percentile(loudness, 5)) if len(loudness) else 0.0
-    return rules._replace(silence=max(rules.silence, 3.0 * floor), loud=int(max(rules.loud, 6.0 * floor)))
+    return rules._replace(silence=max(rules.silence, 1.5 * floor), loud=int(max(rules.loud, 6.0 * floor)))
 
 
 def _method(language: Optional[str], warn: Callable[[str], None]) -> str:
