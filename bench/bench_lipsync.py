@@ -109,8 +109,9 @@ def main() -> None:
         for path, _, _ in made:
             read_sound(str(path))
         reading = time.process_time() - start
+        voices = ", ".join(f"{v} at {r}" for v, r in VOICES)
         print(
-            f"{len(made)} recordings, {seconds:.1f} s of speech ({', '.join(f'{v} at {r}' for v, r in VOICES)}), "
+            f"{len(made)} recordings, {seconds:.1f} s of speech ({voices}), "
             f"noise {NOISE_DB:.0f} dB under the peak; one core"
         )
         print(f"  reading the files (baseline)   {seconds / reading:6.0f}x real time")
