@@ -140,6 +140,7 @@ bench: venv venv-ros
 	$(BIN)/python bench/bench_check.py
 	$(BIN)/python bench/bench_export.py
 	$(VENV_ROS)/bin/python bench/bench_speech.py
+	$(BIN)/python bench/bench_lipsync.py
 	$(BIN)/python bench/bench_studio.py
 
 # A ROS-ready environment: installs ROS from Debian, then .venv-ros sees it.

@@ -56,7 +56,7 @@ def _decoder(kind: str) -> Any:
         if kind == "allphone":
             # The phoneme model weighs in lightly: heavier, it hears the phonemes it expects.
             model = ps.get_model_path("en-us/en-us-phone.lm.bin")
-            settings.update(allphone=model, lw=1.0, beam=1e-20, pbeam=1e-20)
+            settings.update(allphone=model, lw=1.0, beam=1e-8, pbeam=1e-8)
         decoder = _decoders[kind] = ps.Decoder(**settings)
     return decoder
 
