@@ -346,13 +346,11 @@ class _Builder(ExpressionRules, Transformer):
             file_pos=self._pos(string),
         )
 
-    def _check_text(self, string: Token, text: Optional[str]) -> None:
+    def _check_text(self, string: Token, text: Optional[str], limit: int = LIMITS.max_say) -> None:
         if text is not None and not text.strip():
             self._error(string, "nothing to say: the text is empty")
-        elif text is not None and len(text) > LIMITS.max_say:
-            self._error(
-                string, f"too much to say at once ({len(text)} characters; the limit is {LIMITS.max_say})"
-            )
+        elif text is not None and len(text) > limit:
+            self._error(string, f"too much to say at once ({len(text)} characters; the limit is {limit})")
 
     def _string(self, token: Token) -> Optional[str]:
         """A string token's text, escapes undone; None after an error."""
@@ -391,7 +389,7 @@ class _Builder(ExpressionRules, Transformer):
     def words(self, children: List[Token]) -> Tuple[str, Optional[str], Token]:
         keyword, token = children
         text = self._string(token)
-        self._check_text(token, text)
+        self._check_text(token, text, LIMITS.max_recorded_text)
         return "text", text, keyword
 
     def repeat(self, children: List[Any]) -> n.Repeat:

@@ -23,6 +23,8 @@ from ..extras import need
 from .audio_files import ANALYSIS_RATE, EXTRA
 
 FRAME = 0.01  # pocketsphinx's frames: 100 a second
+# Aligning takes memory with the sound's length (about 200 MB a minute): longer ones are heard.
+ALIGN_SECONDS = 60.0
 _LOCK = threading.Lock()  # a decoder is not to be shared between threads
 _decoders: Dict[str, Any] = {}
 
@@ -53,6 +55,8 @@ def _decoder(kind: str) -> Any:
     if decoder is None:
         ps = _pocketsphinx()
         settings: Dict[str, Any] = {"lm": None, "bestpath": False, "loglevel": "FATAL"}
+        if kind == "align-wide":  # a long recording: the right path can be pruned in narrower beams
+            settings.update(beam=1e-80, pbeam=1e-80, wbeam=1e-60)
         if kind == "allphone":
             # The phoneme model weighs in lightly: heavier, it hears the phonemes it expects.
             model = ps.get_model_path("en-us/en-us-phone.lm.bin")
@@ -62,17 +66,19 @@ def _decoder(kind: str) -> Any:
 
 
 def hear(sound: np.ndarray, words: str = "", spell: Optional[Any] = None) -> Heard:
-    """The phones in int16 mono `sound` at ANALYSIS_RATE; aligned to `words` when given.
+    """The phones in int16 mono `sound` at ANALYSIS_RATE; aligned to `words` when given (and the
+    sound is at most ALIGN_SECONDS long).
 
     `spell(word)` gives ARPAbet phones for a word the dictionary lacks (None: it is left out).
     Words that do not fit the sound are dropped, and the phonemes decoded instead.
     """
     data = np.asarray(sound, "<i2").tobytes()
     with _LOCK:
-        if words.strip():
-            aligned = _align(data, words, spell)
-            if aligned is not None:
-                return aligned
+        if words.strip() and len(sound) <= ALIGN_SECONDS * ANALYSIS_RATE:
+            for kind in ("align", "align-wide"):
+                aligned = _align(_decoder(kind), data, words, spell)
+                if aligned is not None:
+                    return aligned
         decoder = _decoder("allphone")
         _decode(decoder, data)
         phones = [(s.start_frame * FRAME, (s.end_frame + 1) * FRAME, s.word) for s in decoder.seg()]
@@ -94,8 +100,7 @@ def spoken_words(text: str) -> List[Tuple[str, List[str]]]:
     return [(word, tokens) for word, tokens in out if tokens]
 
 
-def _align(data: bytes, text: str, spell: Optional[Any]) -> Optional[Heard]:
-    decoder = _decoder("align")
+def _align(decoder: Any, data: bytes, text: str, spell: Optional[Any]) -> Optional[Heard]:
     written = spoken_words(text)
     tokens: List[str] = []
     for _, pieces in written:

@@ -11,6 +11,7 @@ names a path.
 
 from __future__ import annotations
 
+import contextlib
 import io
 import os
 import threading
@@ -24,8 +25,10 @@ from ..core.presets import MOOD_CIRCLE
 from ..core.tables import BROWS, DIRECTIONS, EMOTIONS, MOUTHS
 from ..engine.timeline import Timeline
 from ..extras import MissingTool
+from ..language.checker import walk
 from ..language.diagnostics import Diagnostic, ScriptError
 from ..language.parser import decode, grammar_words, parse, read_bounded
+from ..language.syntax_tree import Say
 from ..language.vocabulary import BARE_WORDS
 from ..speech.recordings import RecordingError, Recordings
 from ..speech.soundtrack import write_wav
@@ -186,6 +189,7 @@ class Workspace:
             with self.lock:
                 self.text = text
             return {"diagnostics": diagnostics_json(unsaid) + diagnostics, "timeline": self.timeline()}
+        self._hear_recordings(script)
         with self.lock:
             self.text = text
             try:
@@ -197,6 +201,14 @@ class Workspace:
             except RecordingError as e:  # changed on disk since it was checked
                 diagnostics = diagnostics_json([e.diagnostic()]) + diagnostics
         return {"diagnostics": diagnostics, "timeline": self.timeline()}
+
+    def _hear_recordings(self, script: Any) -> None:
+        """Find the mouths of the script's recordings before the lock is taken: the first time, a
+        long one takes seconds, and the frame pump must not wait (then they are kept)."""
+        for say in walk(script.body):
+            if isinstance(say, Say) and say.file is not None:
+                with contextlib.suppress(RecordingError, MissingTool):
+                    self.recordings.recite(say)
 
     def timeline(self) -> Dict[str, Any]:
         with self.lock:

@@ -344,3 +344,11 @@ def test_a_bad_say_file_is_reported_where_it_is():
         (2, 10, "'text' is for a recording: say file \"NAME\" text ..."),
         (3, 10, "no recording named: the file name is empty"),
     ]
+
+
+def test_a_recordings_words_may_be_ten_minutes_long_not_more():
+    words = "word " * 1500  # past a say's 1000 characters
+    (say,) = parse(f'say file "a.wav" text "{words}"').body
+    assert say.text == words
+    with pytest.raises(ScriptError, match="too much to say at once .15001 characters; the limit is 10000"):
+        parse(f'say file "a.wav" text "{words * 2}x"')
