@@ -18,6 +18,8 @@ EXTRA = "lipsync"
 MAX_SECONDS = 600.0  # one recording: ten minutes
 MAX_BYTES = 200 * 1024 * 1024
 MAX_RATE = 48000  # what is kept to play; higher rates are brought down to it
+# Rates every sound encoder we write takes (AAC's); a recording at another is brought to MAX_RATE.
+RATES = frozenset((8000, 11025, 12000, 16000, 22050, 24000, 32000, 44100, 48000))
 ANALYSIS_RATE = 16000  # what the phonemes are found at: the acoustic model's
 
 
@@ -91,7 +93,8 @@ def read_sound(path: str) -> Sound:
             if not container.streams.audio:
                 raise AudioError("it holds no sound")
             stream = container.streams.audio[0]
-            rate = min(MAX_RATE, int(stream.codec_context.sample_rate or stream.rate or ANALYSIS_RATE))
+            rate = int(stream.codec_context.sample_rate or stream.rate or ANALYSIS_RATE)
+            rate = rate if rate in RATES else MAX_RATE
             to_play = av.AudioResampler(format="s16", layout="mono", rate=rate)
             played: List[np.ndarray] = []
             count = 0
