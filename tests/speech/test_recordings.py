@@ -347,3 +347,12 @@ def test_a_recordings_words_may_be_ten_minutes_long_not_more():
     assert say.text == words
     with pytest.raises(ScriptError, match="too much to say at once .15001 characters; the limit is 10000"):
         parse(f'say file "a.wav" text "{words * 2}x"')
+
+
+def test_words_that_do_not_fit_the_sound_are_let_go_for_the_phonemes_heard(recorded):
+    folder, _ = recorded
+    said = said_from(
+        folder, 'say file "said.wav" text "Completely different words are written here by mistake."'
+    )
+    assert said.utterance.recording.method == "phonemes heard" and said.utterance.words == ()
+    assert said.mouth and said.mouth[-1].shape == REST
