@@ -137,7 +137,10 @@ class Recordings:
                 if path not in seen:
                     seen[path] = None
                     try:
-                        probe(path) if readable else check_file(path)
+                        if readable:
+                            probe(path)
+                        else:
+                            check_file(path)
                     except AudioError as e:
                         seen[path] = str(e)
                 if seen[path] is not None:
