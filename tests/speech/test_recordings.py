@@ -356,3 +356,21 @@ def test_words_that_do_not_fit_the_sound_are_let_go_for_the_phonemes_heard(recor
     )
     assert said.utterance.recording.method == "phonemes heard" and said.utterance.words == ()
     assert said.mouth and said.mouth[-1].shape == REST
+
+
+def test_a_video_carries_the_recording_as_its_sound_track(recorded, aligned, tmp_path):
+    import av
+
+    folder, _ = recorded
+    out = tmp_path / "x.mp4"
+    run = baxterface("render", "-e", 'say file "said.wav"', "--out", str(out), "--fps", "5", cwd=folder)
+    assert run.code == 0, run.err
+    with av.open(str(out)) as container:
+        stream = container.streams.audio[0]
+        sound = np.concatenate([frame.to_ndarray().mean(axis=0) for frame in container.decode(stream)])
+        rate = stream.rate
+    duration = aligned.utterance.duration
+    assert abs(len(sound) / rate - duration) < 0.1  # AAC pads a frame or two
+    # Loud where the recording is loud: its voice, 0.4 s in, not its quiet start.
+    level = [float(np.sqrt(np.mean(sound[int(a * rate) : int((a + 0.2) * rate)] ** 2))) for a in (0.1, 1.0)]
+    assert level[1] > 20 * level[0]
