@@ -30,7 +30,8 @@ from ..language.diagnostics import Diagnostic, ScriptError
 from ..language.parser import decode, grammar_words, parse, read_bounded
 from ..language.syntax_tree import Say
 from ..language.vocabulary import BARE_WORDS
-from ..speech.recordings import RecordingError, Recordings
+from ..speech import phones_heard
+from ..speech.recordings import NO_POCKETSPHINX, RecordingError, Recordings
 from ..speech.soundtrack import write_wav
 from .panel import Button, PanelError, load_panel
 from .preview import Preview, sound_key
@@ -189,7 +190,8 @@ class Workspace:
             with self.lock:
                 self.text = text
             return {"diagnostics": diagnostics_json(unsaid) + diagnostics, "timeline": self.timeline()}
-        self._hear_recordings(script)
+        if self._hear_recordings(script) and not phones_heard.available():  # the rougher mouth: say so
+            diagnostics.append({"line": 0, "column": 0, "severity": "warning", "message": NO_POCKETSPHINX})
         with self.lock:
             self.text = text
             try:
@@ -202,13 +204,17 @@ class Workspace:
                 diagnostics = diagnostics_json([e.diagnostic()]) + diagnostics
         return {"diagnostics": diagnostics, "timeline": self.timeline()}
 
-    def _hear_recordings(self, script: Any) -> None:
+    def _hear_recordings(self, script: Any) -> bool:
         """Find the mouths of the script's recordings before the lock is taken: the first time, a
-        long one takes seconds, and the frame pump must not wait (then they are kept)."""
+        long one takes seconds, and the frame pump must not wait (then they are kept). Whether
+        one of them is English, whose phonemes pocketsphinx hears."""
+        english = False
         for say in walk(script.body):
             if isinstance(say, Say) and say.file is not None:
+                english = english or not say.language or say.language.startswith("en")
                 with contextlib.suppress(RecordingError, MissingTool):
                     self.recordings.recite(say)
+        return english
 
     def timeline(self) -> Dict[str, Any]:
         with self.lock:

@@ -607,3 +607,18 @@ def test_the_studio_says_recordings_from_its_scripts_folder_and_nowhere_else(tmp
     with pytest.raises(ScriptError, match="outside"):
         workspace.command(f'say file "{tmp_path / "outside.wav"}" language fr')
     assert [p["command"] for p in workspace.session()["presses"]] == ['say file "welcome.wav" language fr']
+
+
+def test_without_pocketsphinx_the_editor_says_the_mouth_follows_the_sound(tmp_path, engine, monkeypatch):
+    pytest.importorskip("av")
+    from baxterface_cli.speech import phones_heard
+    from baxterface_cli.speech.soundtrack import write_wav
+    from baxterface_cli.studio.workspace import Workspace
+
+    said = engine.say("Welcome.")
+    write_wav(str(tmp_path / "welcome.wav"), said.samples, said.sample_rate)
+    monkeypatch.setattr(phones_heard, "available", lambda: False)
+    workspace = Workspace(tmp_path / "show.face", idle=False)
+    (note,) = workspace.update('say file "welcome.wav"\n')["diagnostics"]
+    assert note["severity"] == "warning" and "pip install 'baxterface[lipsync]'" in note["message"]
+    assert workspace.update('say file "welcome.wav" language fr\n')["diagnostics"] == []
