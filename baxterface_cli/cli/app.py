@@ -56,8 +56,11 @@ def fail(message: str, code: int = 1) -> typer.Exit:
     return typer.Exit(code)
 
 
-def script_from(path: Optional[str], inline: Optional[str], command: str) -> Script:
-    """The script a command was given: FILE, '-', inline with -e, or piped in."""
+def script_from(path: Optional[str], inline: Optional[str], command: str, recordings: bool = True) -> Script:
+    """The script a command was given: FILE, '-', inline with -e, or piped in.
+
+    With `recordings`, the files its `say file`s name are checked too (see `check_recordings`).
+    """
     try:
         if inline is not None:
             if path is not None:
@@ -70,10 +73,28 @@ def script_from(path: Optional[str], inline: Optional[str], command: str) -> Scr
             )
         else:
             script = load_script(path or "-")
+        if recordings:
+            check_recordings(script)
     except ScriptError as e:
         raise fail(e.render()) from None
     echo_warnings(script)
     return script
+
+
+def recordings_of(script: Script):
+    """Where a script's `say file`s are read: its folder, or the current one for '-' and -e."""
+    from ..speech.recordings import Recordings
+
+    return Recordings.for_script(
+        script.filename, warn=lambda line: typer.echo(f"baxterface: {line}", err=True)
+    )
+
+
+def check_recordings(script: Script) -> None:
+    """ScriptError, at each `say file`, for a recording that is missing or cannot be read."""
+    problems = recordings_of(script).check(script) if "file" in script.source.lower() else []
+    if problems:
+        raise ScriptError(problems, script.filename, script.source)
 
 
 def echo_warnings(script: Script) -> None:
@@ -150,11 +171,14 @@ def following_from(path: Optional[str], animation, command: str, say):
 def animation_for(script: Script, seed: Optional[int], idle: bool, crossfade: Optional[float]):
     from ..engine.animation import Animation
     from ..engine.compiler import compile_script
+    from ..speech.recordings import RecordingError
 
     try:
-        timeline = compile_script(script, seed, crossfade=crossfade)
-    except MissingTool as e:  # `say` without a speech engine
+        timeline = compile_script(script, seed, crossfade=crossfade, recordings=recordings_of(script))
+    except MissingTool as e:  # `say` without a speech engine, `say file` without PyAV
         raise fail(f"baxterface: {e}") from None
+    except RecordingError as e:  # a recording gone or changed since it was checked
+        raise fail(ScriptError([e.diagnostic()], script.filename, script.source).render()) from None
     return Animation(timeline, idle=idle, seed=seed)
 
 

@@ -19,6 +19,7 @@ from .app import (
     SIZE_OPT,
     THEME_OPT,
     animation_for,
+    check_recordings,
     fail,
     fitted_theme,
     following_from,
@@ -123,6 +124,7 @@ def _watcher(path: str, seed: Optional[int], idle: bool, crossfade: Optional[flo
         state["mtime"] = mtime
         try:
             script = load_script(path)
+            check_recordings(script)
         except ScriptError as e:
             first = e.diagnostics[0]
             player.note = f"kept the last good version: line {first.line}: {first.message}"

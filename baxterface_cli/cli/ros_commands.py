@@ -79,7 +79,8 @@ def node(ctx: typer.Context, ros: Optional[int] = ROS_OPT) -> None:
     display_chatter:=/other _fps:=30, on ROS 2 as --ros-args -r
     display_chatter:=/other -p fps:=30. Parameters: fps, size (1920x1200),
     theme (DIR), idle, selftest, display_topic (/robot/head_display), audio
-    (soundplay|local|none), camera (an image topic), camera_hfov (degrees).
+    (soundplay|local|none), camera (an image topic), camera_hfov (degrees),
+    recordings (FOLDER: where 'say file' may read; without it, none is read).
     Commands (old or new) arrive on display_chatter and take over at once;
     scripts sent to ~queue wait for what is playing. Frames go to
     /robot/xdisplay (bgr8), speech to sound_play on /robotsound (ROS 1) or
@@ -160,7 +161,7 @@ def send(
         raise fail("baxterface send: nothing to send; give a COMMAND, -f FILE or --stdin", 2)
     what = ""
     if file is not None:
-        script = script_from(file, None, "send")
+        script = script_from(file, None, "send", recordings=False)  # the node reads its own
         text = script.source
         what = f"{script.filename} ({len(text.splitlines())} lines)"
     elif text_words:

@@ -22,6 +22,7 @@ from .app import (
     SIZE_OPT,
     THEME_OPT,
     animation_for,
+    check_recordings,
     echo_warnings,
     fail,
     fitted_theme,
@@ -51,6 +52,7 @@ def check(
     for path in files:
         try:
             script = load_script(path)
+            check_recordings(script)
         except ScriptError as e:
             typer.echo(e.render(), err=True)
             failed = True

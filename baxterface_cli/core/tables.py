@@ -150,6 +150,7 @@ class Limits(NamedTuple):
     max_seconds: float = 3600.0  # a script's total length
     max_steps: int = 100_000  # statements once repeats and definitions unroll
     max_say: int = 1000  # characters one `say` speaks: about a minute at the default rate
+    max_recorded_text: int = 10_000  # the words of one recording (`say file ... text`): ten minutes' worth
     max_shown: int = 50  # diagnostics kept and printed; the rest are only counted
 
 

@@ -36,6 +36,7 @@ from .statement_words import describe
 from .timeline import CROSSFADE, PartsChange, Said, Span, Speaker, Timeline, Track
 
 if TYPE_CHECKING:
+    from ..speech.recordings import Recordings
     from ..speech.synthesis import Utterance
 
 
@@ -49,10 +50,18 @@ class _Compiler:
     """Walks the AST with a clock, queueing track changes to apply in time order."""
 
     def __init__(
-        self, script: n.Script, rng: random.Random, start: FaceState, crossfade: float, speak: Speaker
+        self,
+        script: n.Script,
+        rng: random.Random,
+        start: FaceState,
+        crossfade: float,
+        speak: Speaker,
+        recordings: Optional[Recordings] = None,
     ) -> None:
         self.definitions = script.definitions
         self.speak = speak
+        self.filename = script.filename
+        self.recordings = recordings
         self.rng = rng
         self.crossfade = crossfade
         self.start = start
@@ -300,8 +309,16 @@ class _Compiler:
     def do_say(self, s: n.Say, t: float) -> float:
         from ..speech.visemes import mouth_track
 
-        utterance = self.speak(s.text, s.voice, s.rate)
-        said = Said(t, utterance, mouth_track(utterance))
+        if s.file is not None:
+            if self.recordings is None:
+                from ..speech.recordings import Recordings
+
+                self.recordings = Recordings.for_script(self.filename)
+            utterance, mouth = self.recordings.recite(s)
+        else:
+            utterance = self.speak(s.text, s.voice, s.rate)
+            mouth = mouth_track(utterance)
+        said = Said(t, utterance, mouth)
         self.later(t, lambda at: self.speech.append(said))
         self.cue(t, fx.Speech(utterance))
         return t + utterance.duration
@@ -357,6 +374,7 @@ def compile_script(
     start: Optional[FaceState] = None,
     crossfade: Optional[float] = None,
     speak: Optional[Speaker] = None,
+    recordings: Optional[Recordings] = None,
 ) -> Timeline:
     """Compile a parsed script; the same script and seed give the same timeline.
 
@@ -364,10 +382,15 @@ def compile_script(
     script and none (a cut, as the old node did) for legacy commands. `say`
     speaks through `speak`, by default the espeak-ng engine, which is only
     loaded when a script says something (`extras.MissingTool` without it).
+    `say file` reads from `recordings`, by default the script's folder, any
+    path in it (`speech.recordings.RecordingError` for a file it cannot say):
+    give texts from elsewhere (a network) a confined one.
     """
     if crossfade is None:
         crossfade = 0.0 if script.legacy else CROSSFADE
-    compiler = _Compiler(script, random.Random(seed), start or FaceState(), crossfade, speak or _engine_say)
+    compiler = _Compiler(
+        script, random.Random(seed), start or FaceState(), crossfade, speak or _engine_say, recordings
+    )
     end = compiler.sequence(script.body, 0.0)
     for event in sorted(compiler.events, key=lambda e: (e.at, e.order)):
         event.apply(event.at)

@@ -174,7 +174,7 @@ class StatusFold(EffectHandler):
         self.status = self.status._replace(exited=True)
 
     def speech(self, effect: Speech, at: float) -> None:
-        self.status = self.status._replace(saying=effect.utterance.text, saying_until=at + effect.duration)
+        self.status = self.status._replace(saying=effect.utterance.said, saying_until=at + effect.duration)
 
 
 class EffectWords(EffectHandler):
@@ -198,6 +198,9 @@ class EffectWords(EffectHandler):
 
     def speech(self, effect: Speech, at: float) -> str:
         u = effect.utterance
+        if u.recording is not None:
+            words = f" text {quoted(u.text)}" if u.text else ""
+            return f"say file {quoted(u.recording.name)}{words} ({u.duration:.2f} s, {u.recording.method})"
         return f"say {quoted(u.text)} ({u.duration:.2f} s, voice {u.voice}, {u.rate} words a minute)"
 
 

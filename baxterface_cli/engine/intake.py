@@ -17,6 +17,7 @@ from typing import Callable, Deque, List, NamedTuple, Optional, Tuple
 from ..extras import MissingTool
 from ..language.diagnostics import Diagnostic, ScriptError
 from ..language.parser import parse
+from ..speech.recordings import RecordingError
 from .live_face import LiveFace, QueueFull
 from .timeline import Timeline
 
@@ -147,6 +148,8 @@ class Intake:
             timeline = self.live.prepare(script, start)
         except MissingTool as e:  # `say` on a machine without a speech engine: refused, not fatal
             return Prepared(queued, None, ScriptError([Diagnostic(0, 0, str(e))], self.filename), generation)
+        except RecordingError as e:  # `say file` of a recording that cannot be read, or not from here
+            return Prepared(queued, None, ScriptError([e.diagnostic()], self.filename, text), generation)
         return Prepared(queued, timeline, None, generation)
 
     def _queue_end(self):

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import random
 from collections import deque
-from typing import Deque, List, Optional
+from typing import TYPE_CHECKING, Deque, List, Optional
 
 from ..core.face_state import FaceState
 from ..core.tables import EMOTIONS
@@ -22,6 +22,9 @@ from .animation import Idle
 from .compiler import compile_script
 from .effects import Cue, RobotStatus, StatusFold
 from .timeline import Timeline
+
+if TYPE_CHECKING:
+    from ..speech.recordings import Recordings
 
 IDLE_AHEAD = 30.0  # seconds of idle blinks planned ahead of the clock
 MAX_QUEUE = 32  # scripts waiting their turn; more are refused
@@ -56,8 +59,11 @@ class LiveFace:
         seed: Optional[int] = None,
         now: float = 0.0,
         max_queue: int = MAX_QUEUE,
+        recordings: Optional[Recordings] = None,
     ) -> None:
+        """`recordings`: where `say file` may read; by default nowhere, as commands come from afar."""
         self.rng = random.Random(seed)
+        self.recordings = recordings
         self.idle_on = idle
         self.max_queue = max_queue
         self.queue: Deque[Timeline] = deque()
@@ -81,7 +87,11 @@ class LiveFace:
 
     def prepare(self, script: Script, start: FaceState) -> Timeline:
         """Compile `script` to start from `start`; safe from another thread."""
-        return compile_script(script, seed=self.rng.randrange(2**32), start=start)
+        if self.recordings is None:
+            from ..speech.recordings import Recordings
+
+            self.recordings = Recordings(None)
+        return compile_script(script, seed=self.rng.randrange(2**32), start=start, recordings=self.recordings)
 
     def begin(self, timeline: Timeline, now: float) -> None:
         """Play `timeline` from `now`, dropping what was playing and what was queued."""

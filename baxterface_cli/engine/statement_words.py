@@ -47,6 +47,12 @@ def describe(s: Any) -> str:
     if isinstance(s, n.Adjust):
         words = " ".join(w for w in (s.part, s.side, s.control) if w)
         return f"{words} {s.value:g}{timed(s)}"
+    if isinstance(s, n.Say) and s.file is not None:
+        return (
+            f"say file {fx.quoted(s.file)}"
+            + (f" text {fx.quoted(s.text)}" if s.text else "")
+            + (f" language {s.language}" if s.language else "")
+        )
     if isinstance(s, n.Say):
         return (
             f"say {fx.quoted(s.text)}"

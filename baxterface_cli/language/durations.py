@@ -50,5 +50,7 @@ def statement_seconds(statement: Any) -> float:
     if isinstance(statement, n.Nod):
         return TIMING.nod
     if isinstance(statement, n.Say):
+        # A recording's length is in its file, which the language does not read: its words at the
+        # default rate stand in.
         return estimated_seconds(statement.text, statement.rate or DEFAULT_RATE)
     return 0.0

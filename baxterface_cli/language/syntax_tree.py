@@ -205,12 +205,20 @@ class Follow(Statement):
 
 @dataclass(frozen=True)
 class Say(Statement):
-    """Speak `text`; None leaves the voice or rate (words a minute) to the default."""
+    """Speak `text`; None leaves the voice or rate (words a minute) to the default.
+
+    With `file`, play that recording (its path as written) instead, the mouth
+    found in its sound; `text` is then its words ("" if not given), to align
+    to it, and `language` what it speaks (None: English).
+    """
 
     text: str
     voice: Optional[str] = None
     rate: Optional[int] = None
     pos: Pos = _pos()
+    file: Optional[str] = None
+    language: Optional[str] = None
+    file_pos: Pos = _pos()  # where the file's name is written, for what is wrong with the file
 
 
 @dataclass(frozen=True)
@@ -271,7 +279,7 @@ def to_json(node: Any) -> Any:
         return node
     out: Dict[str, Any] = {"type": type(node).__name__}
     for f in dataclasses.fields(node):
-        if f.name in ("pos", "warnings", "source", "legacy", "more_warnings"):
+        if f.name in ("pos", "file_pos", "warnings", "source", "legacy", "more_warnings"):
             continue
         out[f.name] = to_json(getattr(node, f.name))
     pos = getattr(node, "pos", None)

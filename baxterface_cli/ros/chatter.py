@@ -36,7 +36,9 @@ class ChatterListener:
         self.link = open_link(version, "baxterface_screen", anonymous=True)
         # One thread calls back for a subscription, so `hand` returning once a command is taken
         # keeps them in order; what waits meanwhile queues here, as on the node.
-        self.subscription = self.link.subscribe(topic, "std_msgs/String", lambda msg: hand(msg.data), queue=100)
+        self.subscription = self.link.subscribe(
+            topic, "std_msgs/String", lambda msg: hand(msg.data), queue=100
+        )
 
     def close(self) -> None:
         self.subscription.close()

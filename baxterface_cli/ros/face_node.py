@@ -32,6 +32,7 @@ from ..engine.effects import Speech
 from ..engine.intake import Intake
 from ..engine.live_face import LiveFace, sleep_face
 from ..robot.camera_watch import CameraWatch
+from ..speech.recordings import Recordings
 from .connect import open_link
 from .images import image_fields, image_pixels
 from .link import CHATTER, NODE_NAME, QUEUE, STATE, Link
@@ -64,6 +65,11 @@ def selftest_script() -> str:
     return "; ".join(steps)
 
 
+def recordings_hint(version: int) -> str:
+    """How a node of ROS `version` is told where recordings may be read."""
+    return "_recordings:=FOLDER" if version == 1 else "--ros-args -p recordings:=FOLDER"
+
+
 class FaceNode:
     """The node's state and its one loop."""
 
@@ -83,7 +89,16 @@ class FaceNode:
         self.fps = settings.fps
         self.renderer = Renderer(layers)
         self.renderer.prepare_in_background()
-        self.live = LiveFace(start=sleep_face(), idle=settings.idle, now=time.monotonic())
+        # Commands come from anyone on the ROS network: `say file` reads only under ~recordings.
+        recordings = Recordings(
+            settings.recordings,
+            confined=True,
+            warn=self.log.warn,
+            refusal=f"this face node reads no recordings; start it with {recordings_hint(link.version)}",
+        )
+        self.live = LiveFace(
+            start=sleep_face(), idle=settings.idle, now=time.monotonic(), recordings=recordings
+        )
         self.image_pub = link.publisher(settings.display_topic, "sensor_msgs/Image", latched=True, queue=1)
         self.state_pub = link.publisher(STATE, "std_msgs/String", latched=True, queue=1)
         self.saying: Optional[Tuple[str, float]] = None  # (text, when it ends) while the face speaks
@@ -159,7 +174,7 @@ class FaceNode:
 
     def _speak(self, effect: Speech) -> None:
         # Timed here, not by the script's status: a take-over restarts the script's clock.
-        self.saying = (effect.utterance.text, time.monotonic() + effect.duration)
+        self.saying = (effect.utterance.said, time.monotonic() + effect.duration)
         self.speaker.speak(effect)
 
     # -- the loop

@@ -7,6 +7,7 @@ the parameter, so `baxterface node` can say which one and exit 2.
 
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass
 from typing import Any, Callable, Optional, Tuple
 
@@ -38,6 +39,7 @@ class NodeSettings:
     audio: str = DEFAULT_AUDIO
     camera: str = CAMERA_TOPIC
     camera_hfov: float = CAMERA_HFOV
+    recordings: Optional[str] = None  # the folder `say file` reads from; None: none is read
 
     @classmethod
     def read(cls, get: Callable[[str, Any], Any], defaults: Optional[NodeSettings] = None) -> NodeSettings:
@@ -54,6 +56,7 @@ class NodeSettings:
             audio=_choice(get, "audio", d.audio),
             camera=_topic(get, "camera", d.camera),
             camera_hfov=_number(get, "camera_hfov", d.camera_hfov, 1.0, 179.0, " degrees"),
+            recordings=_folder(get, "recordings"),
         )
 
 
@@ -88,6 +91,16 @@ def _text(get, name: str, default: str) -> str:
     if not isinstance(value, str):
         raise SettingError(name, f"must be text, not {value!r}")
     return value
+
+
+def _folder(get, name: str) -> Optional[str]:
+    value = _text(get, name, "")
+    if not value:
+        return None
+    path = os.path.abspath(os.path.expanduser(value))
+    if not os.path.isdir(path):
+        raise SettingError(name, f"must be a folder, not {value[:80]!r}")
+    return path
 
 
 def _topic(get, name: str, default: str) -> str:

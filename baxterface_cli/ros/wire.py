@@ -61,14 +61,14 @@ class _ToRos(EffectHandler):
 
     def speech(self, effect: Speech, at: float) -> List[RosCommand]:
         # sound_play speaks the text in its own voice: a message that names a sound
-        # file would name one that is gone by the time a bag of it is played.
-        fields = {
-            "sound": SOUND_SAY,
-            "command": PLAY_ONCE,
-            "volume": 1.0,
-            "arg": effect.utterance.text,
-            "arg2": "",
-        }
+        # file would name one that is gone by the time a bag of it is played. A
+        # recording is the user's own file, there to be played by its path.
+        recording = effect.utterance.recording
+        if recording is not None:
+            sound, arg = SOUND_PLAY_FILE, recording.path
+        else:
+            sound, arg = SOUND_SAY, effect.utterance.text
+        fields = {"sound": sound, "command": PLAY_ONCE, "volume": 1.0, "arg": arg, "arg2": ""}
         return [RosCommand(SOUND_TOPIC, fields)]
 
 

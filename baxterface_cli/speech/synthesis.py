@@ -45,6 +45,7 @@ __all__ = [
     "RATES",
     "VOICES",
     "Phoneme",
+    "Recording",
     "SpeechEngine",
     "Utterance",
     "Word",
@@ -70,9 +71,22 @@ class Word(NamedTuple):
     text: str
 
 
+class Recording(NamedTuple):
+    """Where an utterance's sound came from when it is a recording (`say file`), not espeak-ng."""
+
+    path: str  # the file, absolute
+    name: str  # as the script wrote it
+    digest: str  # SHA-256 of the file's bytes
+    method: str  # how its phonemes were found (recordings.METHODS)
+
+
 @dataclass(frozen=True)
 class Utterance:
-    """Something said: its sound (int16 mono, read-only) and when each phoneme and word starts."""
+    """Something said: its sound (int16 mono, read-only) and when each phoneme and word starts.
+
+    A recording's (`recording` set) has its phonemes found in its sound, named as
+    espeak-ng names them; its `voice` is the language it speaks ("" for English) and `rate` 0.
+    """
 
     text: str
     voice: str
@@ -81,10 +95,16 @@ class Utterance:
     sample_rate: int
     phonemes: Tuple[Phoneme, ...]
     words: Tuple[Word, ...]
+    recording: Optional[Recording] = None
 
     @property
     def duration(self) -> float:
         return len(self.samples) / self.sample_rate
+
+    @property
+    def said(self) -> str:
+        """What is said, as a status shows it: the text, or a recording's file name when it has none."""
+        return self.text or (self.recording.name if self.recording is not None else "")
 
 
 class Trim(NamedTuple):

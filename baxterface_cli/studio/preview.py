@@ -20,6 +20,7 @@ from ..engine.effects import RobotStatus
 from ..engine.timeline import Said
 from ..language.parser import parse
 from ..language.syntax_tree import Script
+from ..speech.recordings import Recordings
 from ..speech.synthesis import Utterance
 from .session import Pending, Session
 
@@ -28,8 +29,10 @@ SESSION = "session"
 
 
 def sound_key(utterance: Utterance) -> str:
-    """A name for an utterance's sound that the page can ask for: the same words, voice and rate, one key."""
-    said = f"{utterance.voice}\n{utterance.rate}\n{utterance.text}".encode()
+    """A name for an utterance's sound that the page can ask for: the same words, voice and rate, one
+    key; the same recording (by content), one key."""
+    recording = utterance.recording.digest if utterance.recording is not None else ""
+    said = f"{utterance.voice}\n{utterance.rate}\n{utterance.text}\n{recording}".encode()
     return hashlib.sha1(said).hexdigest()[:16]
 
 
@@ -77,8 +80,16 @@ class Transport:
 class Preview:
     """The face the studio shows at any moment, and what the robot would be doing."""
 
-    def __init__(self, seed: Optional[int] = None, idle: bool = True, filename: str = "session.face") -> None:
-        self.session = Session(seed, filename)
+    def __init__(
+        self,
+        seed: Optional[int] = None,
+        idle: bool = True,
+        filename: str = "session.face",
+        recordings: Optional[Recordings] = None,
+    ) -> None:
+        """`recordings`: where `say file` reads, for the script and the presses alike (default: nowhere)."""
+        self.recordings = recordings or Recordings(None)
+        self.session = Session(seed, filename, self.recordings)
         self.seed = self.session.seed
         self.idle = idle
         self.transport = Transport()
@@ -90,8 +101,10 @@ class Preview:
     # -- the script
 
     def load(self, script: Script) -> None:
-        """Play `script` from where the transport is (MissingTool if it says something with no engine)."""
-        self.animation = Animation(compile_script(script, self.seed), self.idle, self.seed)
+        """Play `script` from where the transport is (MissingTool if it says something with no engine,
+        RecordingError for a recording it cannot say)."""
+        timeline = compile_script(script, self.seed, recordings=self.recordings)
+        self.animation = Animation(timeline, self.idle, self.seed)
         self.script = script
 
     @property

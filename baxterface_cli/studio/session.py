@@ -20,6 +20,7 @@ from ..engine.timeline import Timeline
 from ..language.diagnostics import ScriptError
 from ..language.parser import parse
 from ..language.syntax_tree import Script
+from ..speech.recordings import RecordingError, Recordings
 
 
 class Stale(Exception):
@@ -50,9 +51,15 @@ def seconds(t: float) -> str:
 class Session:
     """Presses in, the session's script text and timeline out."""
 
-    def __init__(self, seed: Optional[int] = None, filename: str = "session.face") -> None:
+    def __init__(
+        self,
+        seed: Optional[int] = None,
+        filename: str = "session.face",
+        recordings: Optional[Recordings] = None,
+    ) -> None:
         self.seed = random.randrange(2**31) if seed is None else seed
         self.filename = filename
+        self.recordings = recordings or Recordings(None)  # where `say file` reads: nowhere by default
         self.presses: List[Press] = []
         self.started: Optional[float] = None  # the caller's clock at the first press
         self.began_at = ""  # wall-clock time of the first press, for the header
@@ -74,10 +81,10 @@ class Session:
         """
         generation, presses, started = self.generation, self.presses, self.started
         command = parse(text, "<command>")
-        duration = compile_script(command, self.seed).duration
+        duration = self._compile(command).duration
         at = 0.0 if started is None else round(now - started, 3)
         pressed = [*presses, Press(at, text.strip(), duration)]
-        timeline = compile_script(self._parse(self.text_of(pressed)), self.seed)
+        timeline = self._compile(self._parse(self.text_of(pressed)))
         return Pending(generation, pressed, timeline, now if started is None else started, at)
 
     def take(self, pending: Pending) -> float:
@@ -89,6 +96,12 @@ class Session:
         self.presses, self.timeline, self.started = pending.presses, pending.timeline, pending.started
         self.generation += 1
         return pending.at
+
+    def _compile(self, script: Script) -> Timeline:
+        try:
+            return compile_script(script, self.seed, recordings=self.recordings)
+        except RecordingError as e:  # a press that says a recording it cannot
+            raise ScriptError([e.diagnostic()._replace(line=0, column=0)], "<command>") from None
 
     def _parse(self, text: str) -> Script:
         try:

@@ -11,6 +11,7 @@ names a path.
 
 from __future__ import annotations
 
+import contextlib
 import io
 import os
 import threading
@@ -24,9 +25,13 @@ from ..core.presets import MOOD_CIRCLE
 from ..core.tables import BROWS, DIRECTIONS, EMOTIONS, MOUTHS
 from ..engine.timeline import Timeline
 from ..extras import MissingTool
+from ..language.checker import walk
 from ..language.diagnostics import Diagnostic, ScriptError
 from ..language.parser import decode, grammar_words, parse, read_bounded
+from ..language.syntax_tree import Say
 from ..language.vocabulary import BARE_WORDS
+from ..speech import phones_heard
+from ..speech.recordings import NO_POCKETSPHINX, RecordingError, Recordings
 from ..speech.soundtrack import write_wav
 from .panel import Button, PanelError, load_panel
 from .preview import Preview, sound_key
@@ -143,7 +148,10 @@ class Workspace:
         self.panel_path = panel
         self.clock = clock
         self.lock = threading.RLock()
-        self.preview = Preview(seed, idle, filename="session.face")
+        # The page's text and presses come over the network: `say file` reads only under the
+        # script's own folder.
+        self.recordings = Recordings(self.folder, confined=True)
+        self.preview = Preview(seed, idle, filename="session.face", recordings=self.recordings)
         self.robot = RobotSwitch(topic)
         self.buttons: List[Button] = load_panel(panel)
         self.preview_note = ""
@@ -177,6 +185,13 @@ class Workspace:
                 self.text = text
             return {"diagnostics": diagnostics_json(e.diagnostics), "timeline": self.timeline()}
         diagnostics = diagnostics_json(list(script.warnings))
+        unsaid = self.recordings.check(script) if "file" in text.lower() else []
+        if unsaid:  # a recording missing or unreadable: an error, where it is named, as check says
+            with self.lock:
+                self.text = text
+            return {"diagnostics": diagnostics_json(unsaid) + diagnostics, "timeline": self.timeline()}
+        if self._hear_recordings(script) and not phones_heard.available():  # the rougher mouth: say so
+            diagnostics.append({"line": 0, "column": 0, "severity": "warning", "message": NO_POCKETSPHINX})
         with self.lock:
             self.text = text
             try:
@@ -185,7 +200,21 @@ class Workspace:
             except MissingTool as e:  # `say` with no speech engine: check is content, play is not
                 self.preview_note = str(e)
                 diagnostics.append({"line": 0, "column": 0, "severity": "warning", "message": str(e)})
+            except RecordingError as e:  # changed on disk since it was checked
+                diagnostics = diagnostics_json([e.diagnostic()]) + diagnostics
         return {"diagnostics": diagnostics, "timeline": self.timeline()}
+
+    def _hear_recordings(self, script: Any) -> bool:
+        """Find the mouths of the script's recordings before the lock is taken: the first time, a
+        long one takes seconds, and the frame pump must not wait (then they are kept). Whether
+        one of them is English, whose phonemes pocketsphinx hears."""
+        english = False
+        for say in walk(script.body):
+            if isinstance(say, Say) and say.file is not None:
+                english = english or not say.language or say.language.startswith("en")
+                with contextlib.suppress(RecordingError, MissingTool):
+                    self.recordings.recite(say)
+        return english
 
     def timeline(self) -> Dict[str, Any]:
         with self.lock:

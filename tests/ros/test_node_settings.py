@@ -44,3 +44,12 @@ def test_a_bad_value_is_one_error_naming_its_parameter(given, message):
 def test_a_theme_that_cannot_be_used_names_the_theme_parameter(tmp_path):
     with pytest.raises(SettingError, match=r"^~theme cannot be used: .*nonexistent"):
         theme_layers(read(theme=str(tmp_path / "nonexistent")))
+
+
+def test_recordings_is_a_folder_made_absolute_or_none(tmp_path, monkeypatch):
+    assert read().recordings is None
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "sounds").mkdir()
+    assert read(recordings="sounds").recordings == str(tmp_path / "sounds")
+    with pytest.raises(SettingError, match=r"^~recordings must be a folder, not 'nowhere'$"):
+        read(recordings="nowhere")

@@ -329,3 +329,64 @@ def test_the_carried_sound_request_has_the_md5sum_genpy_computes():
     assert message_types()[SOUND_REQUEST].md5sum == carried.md5sum  # the bag writer's own reckoning
     constants = (built.PLAY_FILE, built.SAY, built.PLAY_ONCE, built.PLAY_STOP)
     assert constants == (SOUND_PLAY_FILE, SOUND_SAY, PLAY_ONCE, PLAY_STOP)
+
+
+def test_say_file_plays_a_recording_from_the_nodes_folder_and_nothing_outside_it(roscore, tmp_path):
+    sounds = tmp_path / "sounds"
+    sounds.mkdir()
+    run = baxterface("render", "-e", HELLO, "--out", str(sounds / "hello.wav"))  # a recording
+    assert run.code == 0, run.err
+    (tmp_path / "outside.wav").write_bytes((sounds / "hello.wav").read_bytes())
+    with wave.open(str(sounds / "hello.wav")) as w:
+        frames = w.getnframes()
+    ears = Ears(roscore)
+    node = Node(roscore, ears, f"_recordings:={sounds}")
+    try:
+        ears.send('say file "hello.wav" text "Hello there"')
+        request = ears.wait_for(lambda r: r["topic"] == "sound")
+        mouth = ears.state(speaking)
+        assert (request["sound"], request["command"], request.get("wav")) == (
+            SOUND_PLAY_FILE,
+            PLAY_ONCE,
+            [1, 2, 22050, frames],
+        )
+        assert mouth["saying"] == "Hello there"
+        ears.state(quiet, after=mouth)
+        logged, refused = [], threading.Event()
+
+        def read():
+            for line in node.proc.stdout:
+                logged.append(line.decode("utf-8", "replace"))
+                if "bad command" in logged[-1]:
+                    refused.set()
+
+        reader = threading.Thread(target=read, daemon=True)
+        reader.start()
+        ears.send('say file "../outside.wav"')
+        assert refused.wait(15), logged
+        assert len(ears.sounds()) == 1
+    finally:
+        out = node.stop()
+        ears.close()
+    out = "".join(logged) + out
+    assert "bad command: display_chatter:1:10: error: recording '../outside.wav' is outside" in out, out
+    assert "Traceback" not in out, out
+
+
+def test_stream_says_a_recording_beside_its_script(roscore, tmp_path):
+    run = baxterface("render", "-e", HELLO, "--out", str(tmp_path / "hello.wav"))
+    assert run.code == 0, run.err
+    (tmp_path / "talk.face").write_text('wait 0.5\nsay file "hello.wav" language fr\n')
+    ears = Ears(roscore)
+    try:
+        run = baxterface("stream", "--no-idle", str(tmp_path / "talk.face"), env=roscore)
+        assert run.code == 0, run.err
+        (request,) = ears.sounds()
+    finally:
+        ears.close()
+    assert (request["sound"], request.get("wav")[2:]) == (SOUND_PLAY_FILE, [22050, run_frames(tmp_path)])
+
+
+def run_frames(folder):
+    with wave.open(str(folder / "hello.wav")) as w:
+        return w.getnframes()

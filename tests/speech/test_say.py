@@ -72,7 +72,7 @@ def test_say_is_a_statement_like_any_other():
         ('say "Hi" rate 150s', (1, 18, "unknown unit 's' for a speech rate; a speech rate takes 'wpm'")),
         ('say "a\\tb"', (1, 7, "unknown escape '\\t'; write \\\" or \\\\")),
         ('say "Hi" rate 100 rate 120', (1, 1, "'say' takes one 'rate'")),
-        ("say hello", (1, 5, "unexpected 'hello'; expected a string in double quotes")),
+        ("say hello", (1, 5, "unexpected 'hello'; expected 'file' or a string in double quotes")),
     ],
 )
 def test_bad_say_statements_are_reported_where_they_are(text, expected):

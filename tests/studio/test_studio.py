@@ -576,3 +576,49 @@ def test_scripts_are_parsed_one_at_a_time_and_a_long_queue_is_refused():
 
     assert asyncio.run(flood()) == list(range(HEAVY_WAITING))
     assert most[0] == 1  # never two at once: each holds the GIL the frame pump needs
+
+
+def test_the_studio_says_recordings_from_its_scripts_folder_and_nowhere_else(tmp_path, engine):
+    """The editor and the presses say a recording beside the script; one outside is an error there."""
+    pytest.importorskip("av")
+    import wave
+
+    from baxterface_cli.speech.soundtrack import write_wav
+    from baxterface_cli.studio.workspace import Workspace
+
+    said = engine.say("Welcome to the lab.")
+    (tmp_path / "studio").mkdir()
+    write_wav(str(tmp_path / "studio" / "welcome.wav"), said.samples, said.sample_rate)
+    write_wav(str(tmp_path / "outside.wav"), said.samples, said.sample_rate)
+    workspace = Workspace(tmp_path / "studio" / "show.face", idle=False)
+    checked = workspace.update('happy\nsay file "welcome.wav" language fr\n')
+    assert checked["diagnostics"] == []
+    (key,) = checked["timeline"]["sounds"]
+    with wave.open(io.BytesIO(workspace.sound(key))) as w:
+        assert np.array_equal(np.frombuffer(w.readframes(w.getnframes()), "<i2"), said.samples)
+    checked = workspace.update('happy\nsay file "../outside.wav" language fr\nsay file "gone.wav"\n')
+    assert [(d["line"], d["column"], d["severity"]) for d in checked["diagnostics"]] == [
+        (2, 10, "error"),
+        (3, 10, "error"),
+    ]
+    assert "is outside" in checked["diagnostics"][0]["message"]
+    assert checked["diagnostics"][1]["message"] == "cannot read recording 'gone.wav': no such file"
+    workspace.command('say file "welcome.wav" language fr')
+    with pytest.raises(ScriptError, match="outside"):
+        workspace.command(f'say file "{tmp_path / "outside.wav"}" language fr')
+    assert [p["command"] for p in workspace.session()["presses"]] == ['say file "welcome.wav" language fr']
+
+
+def test_without_pocketsphinx_the_editor_says_the_mouth_follows_the_sound(tmp_path, engine, monkeypatch):
+    pytest.importorskip("av")
+    from baxterface_cli.speech import phones_heard
+    from baxterface_cli.speech.soundtrack import write_wav
+    from baxterface_cli.studio.workspace import Workspace
+
+    said = engine.say("Welcome.")
+    write_wav(str(tmp_path / "welcome.wav"), said.samples, said.sample_rate)
+    monkeypatch.setattr(phones_heard, "available", lambda: False)
+    workspace = Workspace(tmp_path / "show.face", idle=False)
+    (note,) = workspace.update('say file "welcome.wav"\n')["diagnostics"]
+    assert note["severity"] == "warning" and "pip install 'baxterface[lipsync]'" in note["message"]
+    assert workspace.update('say file "welcome.wav" language fr\n')["diagnostics"] == []

@@ -1,0 +1,168 @@
+"""The phonemes in a recording of English speech, found by pocketsphinx (the `[lipsync]` extra).
+
+Without its words, pocketsphinx's phoneme loop decodes the sound straight
+to phonemes (`allphone`). With them, it aligns the words' phonemes, from its
+own dictionary (espeak-ng spells the words it lacks), to the sound: slower
+to go wrong, and the words come out timed too. Both give pocketsphinx's
+phones (ARPAbet: AA, AE, ... ZH, SIL), which `phone_names` turns into
+espeak-ng's phoneme names, so the mouth follows them by the same table and
+rules as it follows `say` (visemes.py). pocketsphinx ships its English
+acoustic model, dictionary and phoneme model in its wheel: nothing is
+downloaded.
+"""
+
+from __future__ import annotations
+
+import re
+import threading
+from typing import Any, Dict, List, NamedTuple, Optional, Tuple
+
+import numpy as np
+
+from ..extras import need
+from .audio_files import ANALYSIS_RATE, EXTRA
+
+FRAME = 0.01  # pocketsphinx's frames: 100 a second
+# Aligning takes memory with the sound's length (about 200 MB a minute): longer ones are heard.
+ALIGN_SECONDS = 60.0
+_LOCK = threading.Lock()  # a decoder is not to be shared between threads
+_decoders: Dict[str, Any] = {}
+
+
+class Heard(NamedTuple):
+    """What pocketsphinx found: ARPAbet phones and the words (as given) with their start times."""
+
+    phones: Tuple[Tuple[float, float, str], ...]  # (start, end, phone), seconds from the sound's start
+    words: Tuple[Tuple[float, str], ...]
+    aligned: bool  # the words were aligned (False: decoded as phonemes)
+
+
+def available() -> bool:
+    try:
+        _pocketsphinx()
+    except Exception:
+        return False
+    return True
+
+
+def _pocketsphinx() -> Any:
+    return need("pocketsphinx", EXTRA, "lip-sync from a recording's phonemes")
+
+
+def _decoder(kind: str) -> Any:
+    """One decoder of each kind a process, made on first use (loading the model takes a moment)."""
+    decoder = _decoders.get(kind)
+    if decoder is None:
+        ps = _pocketsphinx()
+        settings: Dict[str, Any] = {"lm": None, "bestpath": False, "loglevel": "FATAL"}
+        if kind == "align-wide":  # a long recording: the right path can be pruned in narrower beams
+            settings.update(beam=1e-80, pbeam=1e-80, wbeam=1e-60)
+        if kind == "allphone":
+            # The phoneme model weighs in lightly: heavier, it hears the phonemes it expects.
+            model = ps.get_model_path("en-us/en-us-phone.lm.bin")
+            settings.update(allphone=model, lw=1.0, beam=1e-8, pbeam=1e-8)
+        decoder = _decoders[kind] = ps.Decoder(**settings)
+    return decoder
+
+
+def hear(sound: np.ndarray, words: str = "", spell: Optional[Any] = None) -> Heard:
+    """The phones in int16 mono `sound` at ANALYSIS_RATE; aligned to `words` when given (and the
+    sound is at most ALIGN_SECONDS long).
+
+    `spell(word)` gives ARPAbet phones for a word the dictionary lacks (None: it is left out).
+    Words that do not fit the sound are dropped, and the phonemes decoded instead.
+    """
+    data = np.asarray(sound, "<i2").tobytes()
+    with _LOCK:
+        if words.strip() and len(sound) <= ALIGN_SECONDS * ANALYSIS_RATE:
+            for kind in ("align", "align-wide"):
+                aligned = _align(_decoder(kind), data, words, spell)
+                if aligned is not None:
+                    return aligned
+        decoder = _decoder("allphone")
+        _decode(decoder, data)
+        phones = [(s.start_frame * FRAME, (s.end_frame + 1) * FRAME, s.word) for s in decoder.seg()]
+    return Heard(_contiguous(phones, len(sound) / ANALYSIS_RATE), (), False)
+
+
+def _decode(decoder: Any, data: bytes) -> None:
+    decoder.start_utt()
+    decoder.process_raw(data, full_utt=True)
+    decoder.end_utt()
+
+
+def spoken_words(text: str) -> List[Tuple[str, List[str]]]:
+    """Each written word of `text`, with the tokens pocketsphinx looks up for it ("Hello," -> hello)."""
+    out = []
+    for word in text.split():
+        tokens = [t.strip("'") for t in re.findall(r"[a-z0-9']+", word.lower())]
+        out.append((word.strip('.,;:!?"()[]{}'), [t for t in tokens if t]))
+    return [(word, tokens) for word, tokens in out if tokens]
+
+
+def _align(decoder: Any, data: bytes, text: str, spell: Optional[Any]) -> Optional[Heard]:
+    written = spoken_words(text)
+    tokens: List[str] = []
+    for _, pieces in written:
+        for token in pieces:
+            if decoder.lookup_word(token) is None:
+                phones = spell(token) if spell is not None else None
+                if not phones:
+                    continue
+                decoder.add_word(token, " ".join(phones), True)
+            tokens.append(token)
+    if not tokens:
+        return None
+    try:
+        decoder.set_align_text(" ".join(tokens))
+        _decode(decoder, data)  # the words' times
+        decoder.set_alignment()
+        _decode(decoder, data)  # and their phones'
+        alignment = decoder.get_alignment()
+    except RuntimeError:  # the words do not fit the sound
+        return None
+    if alignment is None:
+        return None
+    phones = [(p.start * FRAME, (p.start + p.duration) * FRAME, p.name) for p in alignment.phones()]
+    starts = [(w.start * FRAME, w.name) for w in alignment if not w.name.startswith("<")]
+    return Heard(_contiguous(phones, len(data) / 2 / ANALYSIS_RATE), _written_times(written, starts), True)
+
+
+def _written_times(
+    written: List[Tuple[str, List[str]]], starts: List[Tuple[float, str]]
+) -> Tuple[Tuple[float, str], ...]:
+    """Each written word at the start of its first token the alignment placed."""
+    out = []
+    index = 0
+    for word, tokens in written:
+        found = None
+        for token in tokens:
+            for j in range(index, len(starts)):
+                if re.sub(r"\(\d+\)$", "", starts[j][1]) == token:
+                    found = starts[j][0] if found is None else found
+                    index = j + 1
+                    break
+        if found is not None:
+            out.append((found, word))
+    return tuple(out)
+
+
+def _contiguous(
+    phones: List[Tuple[float, float, str]], duration: float
+) -> Tuple[Tuple[float, float, str], ...]:
+    """The phones end to end: each ends where the next starts, the last with the sound; a gap is silence."""
+    out: List[Tuple[float, float, str]] = []
+    at = 0.0
+    for start, end, name in sorted(phones):
+        start, end = max(start, at), min(end, duration)
+        if start > at + 1e-9:
+            out.append((at, start, "SIL"))
+        if end > start:
+            out.append((start, end, name))
+            at = end
+    if duration > at + 1e-9:
+        if out and out[-1][2] == "SIL":
+            out[-1] = (out[-1][0], duration, "SIL")
+        else:
+            out.append((at, duration, "SIL"))
+    return tuple(out)

@@ -1,0 +1,284 @@
+"""Recordings a script says (`say file`): where they may be read from, the mouth found in them, kept.
+
+A `Recordings` is where `say file` names are looked up: a script's own
+folder for the command line, where any path the script's author wrote is
+read; a folder the path may not leave (`confined`) for the node and the
+studio, whose commands come over the network; or nowhere at all (`folder`
+None: every `say file` is refused, with `refusal` as the reason).
+
+The phonemes are found once per file content and way of finding them, and
+kept in the user's cache folder (`$XDG_CACHE_HOME/baxterface/lipsync`, by
+default `~/.cache/...`), so a script plays at once the second time:
+
+- English (the default `language`), with pocketsphinx: its phonemes, aligned
+  to the words when the script gives them (`text`), else decoded;
+- another language, or without pocketsphinx: the sound's loudness and
+  spectrum (sound_mouth.py), after a one-line warning naming the extra.
+
+The mouth then follows them by the same table and rules as `say` (visemes.py).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import threading
+from collections import OrderedDict
+from pathlib import Path
+from typing import Any, Callable, Dict, List, NamedTuple, Optional, Tuple, Union
+
+import numpy as np
+
+from ..core.partial_files import write_atomic
+from ..language import syntax_tree as n
+from ..language.checker import walk
+from ..language.diagnostics import Diagnostic
+from . import phones_heard
+from .audio_files import ANALYSIS_RATE, EXTRA, AudioError, check_file, probe, read_sound
+from .phone_names import espeak_phonemes, frame_loudness, spelled
+from .sound_mouth import spectrum_phonemes
+from .synthesis import Phoneme, Recording, Utterance, Word
+from .visemes import MOUTH_RULES, MouthKey, MouthRules, mouth_track
+
+# How a recording's phonemes were found, as `explain` says it.
+METHODS = {
+    "aligned": "phonemes aligned to its words",
+    "heard": "phonemes heard",
+    "spectrum": "loudness and spectrum",
+}
+ANALYSIS_VERSION = 1  # a new one leaves what the old analysis kept unread
+KEPT = 16  # recordings kept in memory: the studio compiles its script at every edit
+NO_POCKETSPHINX = (
+    f"lip-sync from a recording hears its phonemes with pocketsphinx: pip install 'baxterface[{EXTRA}]'; "
+    "the mouth follows its loudness and spectrum instead"
+)
+_warned: List[str] = []
+_recent: OrderedDict = OrderedDict()
+_LOCK = threading.Lock()
+
+
+class RecordingError(ValueError):
+    """A `say file` that cannot be said: the file is missing, unreadable or out of bounds."""
+
+    def __init__(self, message: str, say: Optional[n.Say] = None) -> None:
+        super().__init__(message)
+        self.say = say
+
+    def diagnostic(self) -> Diagnostic:
+        pos = self.say.file_pos if self.say is not None else n.NOWHERE
+        return Diagnostic(pos.line, pos.column, str(self))
+
+
+class Recital(NamedTuple):
+    """A recording as the face says it: the utterance and the mouth that goes with it."""
+
+    utterance: Utterance
+    mouth: Tuple[MouthKey, ...]
+
+
+def cache_folder() -> Path:
+    """Where analyses are kept: `$XDG_CACHE_HOME/baxterface/lipsync`, or `~/.cache/...`."""
+    base = os.environ.get("XDG_CACHE_HOME", "")
+    root = Path(base) if base and os.path.isabs(base) else Path.home() / ".cache"
+    return root / "baxterface" / "lipsync"
+
+
+class Recordings:
+    """Where `say file` names are looked up, and the recordings said from there."""
+
+    def __init__(
+        self,
+        folder: Union[None, str, Path],
+        confined: bool = False,
+        warn: Callable[[str], None] = lambda line: None,
+        refusal: str = "this face reads no recordings",
+        cache: Optional[Path] = None,
+    ) -> None:
+        self.folder = Path(os.path.abspath(str(folder))) if folder is not None else None
+        self.confined = confined
+        self.warn = warn
+        self.refusal = refusal
+        self.cache = cache
+
+    @classmethod
+    def for_script(cls, filename: str, warn: Callable[[str], None] = lambda line: None) -> Recordings:
+        """A script file's folder; the current folder for standard input, `-e` and texts without a file."""
+        folder = "." if filename.startswith("<") else os.path.dirname(os.path.abspath(filename))
+        return cls(folder, warn=warn)
+
+    def path(self, written: str, say: Optional[n.Say] = None) -> str:
+        """The file a `say file` names, absolute; RecordingError where it may not be read."""
+        if self.folder is None:
+            raise RecordingError(f"cannot say recording {written!r}: {self.refusal}", say)
+        if not self.confined:
+            return os.path.abspath(os.path.join(str(self.folder), os.path.expanduser(written)))
+        root = os.path.realpath(str(self.folder))
+        real = os.path.realpath(os.path.join(root, written))
+        if os.path.commonpath([real, root]) != root:
+            raise RecordingError(
+                f"recording {written!r} is outside {root}, the folder recordings are read from here", say
+            )
+        return real
+
+    def check(self, script: n.Script) -> List[Diagnostic]:
+        """What is wrong with each recording the script says, where it names it: missing, not sound...
+
+        Without PyAV only that the file is there and a file can be told.
+        """
+        out: List[Diagnostic] = []
+        seen: Dict[str, Optional[str]] = {}
+        readable = _have_av()
+        for say in walk(script.body):
+            if not isinstance(say, n.Say) or say.file is None:
+                continue
+            try:
+                path = self.path(say.file, say)
+                if path not in seen:
+                    seen[path] = None
+                    try:
+                        if readable:
+                            probe(path)
+                        else:
+                            check_file(path)
+                    except AudioError as e:
+                        seen[path] = str(e)
+                if seen[path] is not None:
+                    raise RecordingError(_unreadable(say.file, seen[path]), say)
+            except RecordingError as e:
+                out.append(e.diagnostic())
+        return out
+
+    def recite(self, say: n.Say) -> Recital:
+        """The recording `say` names, with its mouth; RecordingError if it cannot be read."""
+        path = self.path(say.file or "", say)
+        try:
+            check_file(path)
+            info = os.stat(path)
+        except (AudioError, OSError) as e:
+            raise RecordingError(_unreadable(say.file or "", str(e)), say) from None
+        method = _method(say.language, self.warn)
+        key = (path, info.st_mtime_ns, info.st_size, say.text, say.language, method)
+        with _LOCK:
+            if key in _recent:
+                _recent.move_to_end(key)
+                return _recent[key]
+        try:
+            sound = read_sound(path)
+        except AudioError as e:
+            raise RecordingError(_unreadable(say.file or "", str(e)), say) from None
+        digest = _digest(path)
+        phonemes, words, method = self._analysis(sound, digest, method, say)
+        utterance = Utterance(
+            say.text,
+            say.language or "",
+            0,
+            sound.samples,
+            sound.rate,
+            phonemes,
+            words,
+            Recording(path, say.file or "", digest, METHODS[method]),
+        )
+        recital = Recital(utterance, mouth_track(utterance, heard_rules(sound.samples, sound.rate)))
+        with _LOCK:
+            _recent[key] = recital
+            while len(_recent) > KEPT:
+                _recent.popitem(last=False)
+        return recital
+
+    def _analysis(
+        self, sound: Any, digest: str, method: str, say: n.Say
+    ) -> Tuple[Tuple[Phoneme, ...], Tuple[Word, ...], str]:
+        folder = self.cache or cache_folder()
+        name = f"{ANALYSIS_VERSION}\n{digest}\n{method}\n{say.language or ''}\n{say.text}"
+        kept = folder / (hashlib.sha256(name.encode("utf-8")).hexdigest() + ".json")
+        found = _read_kept(kept)
+        if found is not None:
+            return found
+        if method == "spectrum":
+            phonemes, words = spectrum_phonemes(sound.analysis, ANALYSIS_RATE), ()
+        else:
+            heard = phones_heard.hear(sound.analysis, say.text, _spell)
+            phonemes = espeak_phonemes(heard.phones, sound.analysis, ANALYSIS_RATE)
+            words = tuple(Word(at, text) for at, text in heard.words)
+            method = "aligned" if heard.aligned else "heard"
+        record = {
+            "method": method,
+            "phonemes": [[p.at, p.end, p.name] for p in phonemes],  # as they are: JSON keeps every bit
+            "words": [[w.at, w.text] for w in words],
+        }
+        try:
+            folder.mkdir(parents=True, exist_ok=True)
+            write_atomic(kept, json.dumps(record).encode("utf-8"))
+        except OSError:  # a cache that cannot be written only costs the next run the analysis
+            pass
+        return phonemes, words, method
+
+
+def heard_rules(samples: np.ndarray, rate: int, rules: MouthRules = MOUTH_RULES) -> MouthRules:
+    """The mouth's rules with silence set above the recording's own noise floor.
+
+    espeak-ng's pauses are exact zeros; a recording's hiss and hum are not.
+    """
+    loudness = frame_loudness(samples, rate)
+    floor = float(np.percentile(loudness, 5)) if len(loudness) else 0.0
+    return rules._replace(silence=max(rules.silence, 1.5 * floor), loud=int(max(rules.loud, 6.0 * floor)))
+
+
+def _method(language: Optional[str], warn: Callable[[str], None]) -> str:
+    if language is not None and not language.startswith("en"):
+        return "spectrum"
+    if phones_heard.available():
+        return "heard"
+    with _LOCK:
+        first = not _warned
+        _warned.append(NO_POCKETSPHINX)
+    if first:
+        warn(NO_POCKETSPHINX)
+    return "spectrum"
+
+
+def _have_av() -> bool:
+    try:
+        import av  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+def _unreadable(written: str, reason: str) -> str:
+    return f"cannot read recording {written!r}: {reason}"
+
+
+def _digest(path: str) -> str:
+    sha = hashlib.sha256()
+    with open(path, "rb") as f:
+        for block in iter(lambda: f.read(1 << 20), b""):
+            sha.update(block)
+    return sha.hexdigest()
+
+
+def _read_kept(path: Path) -> Optional[Tuple[Tuple[Phoneme, ...], Tuple[Word, ...], str]]:
+    """A kept analysis; None when there is none, or it is not one (then it is made again)."""
+    try:
+        record = json.loads(path.read_text(encoding="utf-8"))
+        phonemes = tuple(Phoneme(float(a), float(b), str(name)) for a, b, name in record["phonemes"])
+        words = tuple(Word(float(at), str(text)) for at, text in record["words"])
+        method = str(record["method"])
+    except (OSError, ValueError, KeyError, TypeError):
+        return None
+    if method not in METHODS:
+        return None
+    return phonemes, words, method
+
+
+def _spell(word: str) -> Optional[List[str]]:
+    """pocketsphinx's phones for a word its dictionary lacks, as espeak-ng (American) says it."""
+    from ..extras import MissingTool
+    from .synthesis import engine
+
+    try:
+        said = engine().say(word, "en-us")
+    except (MissingTool, ValueError, RuntimeError):
+        return None
+    return spelled([p.name for p in said.phonemes if not p.name.startswith("_")]) or None
