@@ -99,14 +99,19 @@ class Canvas:
         return max(1, int(round(width * self.scale * SUPERSAMPLE)))
 
     def image(self) -> Image.Image:
-        """The layer as a straight-alpha RGBA image."""
-        return Image.fromarray(_straight(self.rgba), "RGBA")
+        """The layer as a straight-alpha RGBA image (of the window, with one)."""
+        out = np.zeros(self.rgba.shape, np.uint8)
+        crop, x, y = self.visible()
+        x, y = x - self.corner[0], y - self.corner[1]
+        out[y : y + crop.shape[0], x : x + crop.shape[1]] = crop
+        return Image.fromarray(out, "RGBA")
 
     def visible(self) -> Tuple[np.ndarray, int, int]:
         """What `image()` holds, cropped to its visible pixels, and where that crop's corner
         sits on the screen: the same numbers, for the part that shows only."""
-        alpha = np.clip(self.rgba[..., 3] * 255.0 + 0.5, 0, 255).astype(np.uint8)
-        rows, cols = np.flatnonzero(alpha.any(axis=1)), np.flatnonzero(alpha.any(axis=0))
+        alpha = self.rgba[..., 3]
+        shows = alpha * 255.0 + 0.5 >= 1.0  # where `_straight` gives an alpha of 1 or more
+        rows, cols = np.flatnonzero(shows.any(axis=1)), np.flatnonzero(shows.any(axis=0))
         if rows.size == 0:
             return np.zeros((0, 0, 4), np.uint8), self.corner[0], self.corner[1]
         r0, r1, c0, c1 = rows[0], rows[-1] + 1, cols[0], cols[-1] + 1

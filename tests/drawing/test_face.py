@@ -97,7 +97,7 @@ def dark_centroid(rgb: np.ndarray, box):
 
 
 def test_eye_coordinates_keep_their_meaning_at_any_size():
-    for size in [(1024, 600), (1920, 1200)]:
+    for size in [(1024, 600), (800, 600)]:  # the face's own, and one letterboxed and scaled down
         face = Face(size=size)
         s = min(size[0] / 1024, size[1] / 600)
         ox, oy = (size[0] - 1024 * s) / 2, (size[1] - 600 * s) / 2
