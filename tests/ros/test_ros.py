@@ -515,7 +515,9 @@ def test_stream_sends_frames_in_real_time(ros, robot, topic):
     screen = Topic(topic, Image)
     proc = baxterface("stream", "--robot", robot, "--no-idle", "-e", "look 40 0 in 1s", env=ros)
     assert proc.code == 0, proc.err
-    assert len(screen.messages) >= 20  # 30 fps for a second, none repeated
+    # In real time: over the script's second, not all at once (a busy machine sends fewer).
+    times = [t for t, _ in screen.messages]
+    assert len(times) >= 3 and times[-1] - times[0] >= 0.8
     assert screen.messages[-1][1].encoding == "bgr8"
     screen.close()
 
