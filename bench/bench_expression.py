@@ -34,7 +34,8 @@ from typing import Dict, List, Tuple
 
 from baxterface_cli.cli.app import DEFAULT_SEED, animation_for, fitted_theme
 from baxterface_cli.core.presets import expression_of
-from baxterface_cli.drawing.renderer import Renderer, pose
+from baxterface_cli.drawing.pose import pose
+from baxterface_cli.drawing.renderer import Renderer
 from baxterface_cli.engine.animation import Animation
 from baxterface_cli.export.registry import format_for
 from baxterface_cli.export.render_to_file import frame_times, render

@@ -36,7 +36,7 @@ from ros_master import start_roscore
 
 from baxterface_cli.core.presets import expression_of
 from baxterface_cli.core.tables import LIMITS
-from baxterface_cli.drawing.renderer import pose
+from baxterface_cli.drawing.pose import pose
 from baxterface_cli.drawing.theme import Theme
 from baxterface_cli.engine.animation import Animation
 from baxterface_cli.engine.compiler import compile_script

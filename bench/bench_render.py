@@ -21,7 +21,8 @@ from PIL import Image
 
 from baxterface_cli import FaceState, Parts
 from baxterface_cli.core.tables import EMOTIONS
-from baxterface_cli.drawing.renderer import Renderer, pose
+from baxterface_cli.drawing.pose import pose
+from baxterface_cli.drawing.renderer import Renderer
 from baxterface_cli.drawing.theme import Theme
 
 

@@ -36,6 +36,8 @@ class Expression(NamedTuple):
     pupil_right: float = 1.0
     lower_lid_left: float = 0.0  # the lower lid risen: 0 out of sight, 1 up to just below the pupil
     lower_lid_right: float = 0.0
+    eye_left: float = 1.0  # the eye's size, its socket and lids with it: 1 as drawn
+    eye_right: float = 1.0
     mouth_curve: float = 0.0  # 1 the smile, -1 the frown, 0 a straight line
     mouth_width: float = 1.0
     mouth_skew: float = 0.0  # a wave that lifts one corner and drops the other (confused)
@@ -137,6 +139,7 @@ CONTROLS: Dict[Tuple[str, str], Control] = {
     ("eyelids", "angle"): Control(
         _sides("lid", "angle"), -1.0, 1.0, "the edge tilted: the inner corner down (a glare), up (sorrow)"
     ),
+    ("eyes", ""): Control(_either("eye"), 0.8, 1.2, "the eyes' size, sockets and lids with them; 1 as drawn"),
     ("pupils", ""): Control(
         _either("pupil"),
         0.5,

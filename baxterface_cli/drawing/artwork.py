@@ -12,7 +12,7 @@ them to assets/default/ (the committed theme is exactly this at 1024x600).
 from __future__ import annotations
 
 import math
-from typing import Dict, List, Tuple
+from typing import Any, Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 from PIL import Image
@@ -70,15 +70,18 @@ def eye_centres() -> List[Point]:
 # -- layers ----------------------------------------------------------------
 
 
-def draw_background(size: Tuple[int, int]) -> Image.Image:
-    """Eye whites, shaded toward the rims; the rest of the screen never shows."""
-    c = Canvas(size)
-    ys, xs = np.mgrid[0 : c.height, 0 : c.width].astype(np.float32)
+def draw_background(
+    size: Tuple[int, int], sizes: Tuple[float, float] = (1.0, 1.0), window: Optional[Sequence[float]] = None
+) -> Image.Image:
+    """Eye whites, shaded toward the rims (of sockets `sizes` times as large as drawn); the rest
+    of the screen never shows. With `window` (face units), only that part of the screen."""
+    c = Canvas(size, window)
+    ys, xs = np.mgrid[c.corner[1] : c.limit[1], c.corner[0] : c.limit[0]].astype(np.float32)
     fx = (xs + 0.5 - c.origin[0]) / c.scale
     fy = (ys + 0.5 - c.origin[1]) / c.scale
     reach = np.full(fx.shape, 9.0, np.float32)
-    for cx, cy in eye_centres():
-        reach = np.minimum(reach, np.hypot((fx - cx) / SOCKET[0], (fy - cy) / SOCKET[1]))
+    for (cx, cy), k in zip(eye_centres(), sizes):
+        reach = np.minimum(reach, np.hypot((fx - cx) / (SOCKET[0] * k), (fy - cy) / (SOCKET[1] * k)))
     shade = np.clip((reach - 0.55) / 0.45, 0.0, 1.0) ** 2
     rim = np.array((214, 214, 226), np.float32)
     rgb = np.array(WHITE, np.float32) * (1.0 - shade[..., None]) + rim * shade[..., None]
@@ -114,28 +117,30 @@ def draw_eyes(size: Tuple[int, int]) -> Image.Image:
 LID_TILT = 30.0  # face pixels the lid's inner corner drops below its outer one at tilt 1
 
 
-def lid_edge(x: float, cx: float, cy: float, tilt: float = 0.0) -> float:
+def lid_edge(x: float, cx: float, cy: float, tilt: float = 0.0, size: float = 1.0) -> float:
     """The closed lid's lower edge: a gentle arc, lowest under the eye's centre; `tilt` drops
-    its inner corner (the one toward the face's centre line) and raises the outer one."""
-    rx, depth = LID
+    its inner corner (the one toward the face's centre line) and raises the outer one; `size`
+    scales it with its eye, about the eye's centre."""
+    rx, depth = LID[0] * size, LID[1] * size
     inward = 1.0 if cx < CENTRE_X else -1.0  # which way x runs toward the centre line
-    slant = tilt * LID_TILT / 2 * inward * (x - cx) / rx
-    return cy + depth - LID_SAG * (1 - math.sqrt(max(0.0, 1 - ((x - cx) / rx) ** 2))) + slant
+    slant = tilt * LID_TILT * size / 2 * inward * (x - cx) / rx
+    return cy + depth - LID_SAG * size * (1 - math.sqrt(max(0.0, 1 - ((x - cx) / rx) ** 2))) + slant
 
 
-def draw_lid(c: Canvas, cx: float, cy: float, tilt: float = 0.0) -> None:
-    rx = LID[0]
-    lower = curve(lambda x: lid_edge(x, cx, cy, tilt), cx + rx, cx - rx)
-    outline = [(cx - rx, cy - LID_TOP), (cx + rx, cy - LID_TOP)] + lower
+def draw_lid(c: Canvas, cx: float, cy: float, tilt: float = 0.0, size: float = 1.0) -> None:
+    rx = LID[0] * size
+    lower = curve(lambda x: lid_edge(x, cx, cy, tilt, size), cx + rx, cx - rx)
+    outline = [(cx - rx, cy - LID_TOP * size), (cx + rx, cy - LID_TOP * size)] + lower
     c.shape(polygon(outline), bounds_of(outline, 2), LID_COLOR)
-    lash = curve(lambda x: lid_edge(x, cx, cy, tilt) - 3, cx - rx + 6, cx + rx - 6)
+    lash = curve(lambda x: lid_edge(x, cx, cy, tilt, size) - 3, cx - rx + 6, cx + rx - 6)
     c.shape(stroke(lash, 8, c), bounds_of(lash, 8), INK)
 
 
-def lid_window(index: int, tilt: float) -> Tuple[float, float, float, float]:
+def lid_window(index: int, tilt: float, size: float = 1.0) -> Tuple[float, float, float, float]:
     cx, cy = eye_centres()[index]
-    rx, depth = LID
-    return (cx - rx - 8, cy - LID_TOP - 4, cx + rx + 8, cy + depth + abs(tilt) * LID_TILT / 2 + 8)
+    rx, depth = LID[0] * size, LID[1] * size
+    low = cy + depth + abs(tilt) * LID_TILT * size / 2 + 8
+    return (cx - rx - 8, cy - LID_TOP * size - 4, cx + rx + 8, low)
 
 
 # The lower lid, risen all the way: its edge an arc bulging up, LOWER_TOP below the eye's centre
@@ -144,24 +149,25 @@ LOWER_TOP, LOWER_SAG, LOWER_TRAVEL = 52.0, 44.0, 110.0
 LOWER_DEPTH = 175.0  # its flat lower part reaches this far below the eye's centre
 
 
-def lower_lid_edge(x: float, cx: float, cy: float) -> float:
-    rx = LID[0]
-    return cy + LOWER_TOP + LOWER_SAG * (1 - math.sqrt(max(0.0, 1 - ((x - cx) / rx) ** 2)))
+def lower_lid_edge(x: float, cx: float, cy: float, size: float = 1.0) -> float:
+    rx = LID[0] * size
+    return cy + (LOWER_TOP + LOWER_SAG * (1 - math.sqrt(max(0.0, 1 - ((x - cx) / rx) ** 2)))) * size
 
 
-def draw_lower_lid(c: Canvas, cx: float, cy: float) -> None:
+def draw_lower_lid(c: Canvas, cx: float, cy: float, size: float = 1.0) -> None:
     """The lower lid, risen: skin-coloured below an upward arc, its edge lined in ink."""
-    rx = LID[0]
-    upper = curve(lambda x: lower_lid_edge(x, cx, cy), cx - rx, cx + rx)
-    outline = upper + [(cx + rx, cy + LOWER_DEPTH), (cx - rx, cy + LOWER_DEPTH)]
+    rx = LID[0] * size
+    upper = curve(lambda x: lower_lid_edge(x, cx, cy, size), cx - rx, cx + rx)
+    outline = upper + [(cx + rx, cy + LOWER_DEPTH * size), (cx - rx, cy + LOWER_DEPTH * size)]
     c.shape(polygon(outline), bounds_of(outline, 2), LID_COLOR)
-    line = curve(lambda x: lower_lid_edge(x, cx, cy) + 2, cx - rx + 10, cx + rx - 10)
+    line = curve(lambda x: lower_lid_edge(x, cx, cy, size) + 2, cx - rx + 10, cx + rx - 10)
     c.shape(stroke(line, 6, c), bounds_of(line, 6), INK)
 
 
-def lower_lid_window(index: int) -> Tuple[float, float, float, float]:
+def lower_lid_window(index: int, size: float = 1.0) -> Tuple[float, float, float, float]:
     cx, cy = eye_centres()[index]
-    return (cx - LID[0] - 8, cy + LOWER_TOP - 8, cx + LID[0] + 8, cy + LOWER_DEPTH + 4)
+    rx = LID[0] * size
+    return (cx - rx - 8, cy + LOWER_TOP * size - 8, cx + rx + 8, cy + LOWER_DEPTH * size + 4)
 
 
 def draw_eyelids(size: Tuple[int, int]) -> Image.Image:
@@ -173,26 +179,31 @@ def draw_eyelids(size: Tuple[int, int]) -> Image.Image:
     return c.image()
 
 
-def draw_skin(size: Tuple[int, int], index: int, cheeks: bool = True) -> Image.Image:
+def draw_skin(
+    size: Tuple[int, int],
+    index: int,
+    cheeks: bool = True,
+    sockets: bool = True,
+    window: Optional[Sequence[float]] = None,
+) -> Image.Image:
     """The face: a radial gradient with see-through sockets ringed in ink (and, unless told
-    not, the cheeks of a waking skin)."""
-    c = Canvas(size)
+    not, the cheeks of a waking skin). Without `sockets`, the skin where they would be, for
+    cutting sockets of other sizes into; with `window` (face units), that part of it only."""
+    c = Canvas(size, window)
     centre, edge = (np.array(col, np.float32) for col in SKIN_COLORS[index])
-    ys, xs = np.mgrid[0 : c.height, 0 : c.width].astype(np.float32)
+    ys, xs = np.mgrid[c.corner[1] : c.limit[1], c.corner[0] : c.limit[0]].astype(np.float32)
     fx = (xs + 0.5 - c.origin[0]) / c.scale - CENTRE_X
     fy = (ys + 0.5 - c.origin[1]) / c.scale - 300.0
     t = np.clip(np.hypot(fx / 620.0, fy / 420.0), 0.0, 1.0) ** 1.6
     c.rgba[..., :3] = (centre * (1.0 - t[..., None]) + edge * t[..., None]) / 255.0
     c.rgba[..., 3] = 1.0
-    holes = Canvas(size)  # the sockets' coverage, to cut out of the skin
-    for cx, cy in eye_centres():
-        rx, ry = SOCKET
-        holes.shape(ellipse(cx, cy, rx, ry), (cx - rx - 2, cy - ry - 2, cx + rx + 2, cy + ry + 2), WHITE)
-    c.rgba *= 1.0 - holes.rgba[..., 3:4]
-    for cx, cy in eye_centres():
-        rx, ry = SOCKET
-        box = (cx - rx - OUTLINE, cy - ry - OUTLINE, cx + rx + OUTLINE, cy + ry + OUTLINE)
-        c.shape(ring(cx, cy, rx, ry, OUTLINE, c), box, INK)
+    if sockets:
+        holes = Canvas(size, window)  # the sockets' coverage, to cut out of the skin
+        for index_of_eye in range(2):
+            holes.shape(*socket_hole(index_of_eye, 1.0), WHITE)
+        c.rgba *= 1.0 - holes.rgba[..., 3:4]
+        for index_of_eye in range(2):
+            c.shape(*socket_ring(index_of_eye, 1.0, c), INK)
     if index != 5:
         if cheeks:
             for cx in (CENTRE_X - 300, CENTRE_X + 300):
@@ -202,6 +213,30 @@ def draw_skin(size: Tuple[int, int], index: int, cheeks: bool = True) -> Image.I
             z = [(x, y), (x + h * 0.8, y), (x, y + h), (x + h * 0.8, y + h)]
             c.shape(stroke(z, 7, c), bounds_of(z, 7), ZZZ)
     return c.image()
+
+
+def socket_hole(index: int, size: float) -> Tuple[Any, Tuple[float, float, float, float]]:
+    """Eye `index`'s socket, `size` times as large as drawn: the shape cut out of the skin, and
+    its bounds."""
+    cx, cy = eye_centres()[index]
+    rx, ry = SOCKET[0] * size, SOCKET[1] * size
+    return ellipse(cx, cy, rx, ry), (cx - rx - 2, cy - ry - 2, cx + rx + 2, cy + ry + 2)
+
+
+def socket_ring(index: int, size: float, c: Canvas) -> Tuple[Any, Tuple[float, float, float, float]]:
+    """The ink ring round that socket, and its bounds."""
+    cx, cy = eye_centres()[index]
+    rx, ry = SOCKET[0] * size, SOCKET[1] * size
+    box = (cx - rx - OUTLINE, cy - ry - OUTLINE, cx + rx + OUTLINE, cy + ry + OUTLINE)
+    return ring(cx, cy, rx, ry, OUTLINE, c), box
+
+
+def socket_window(index: int, size: float) -> Tuple[float, float, float, float]:
+    """A box, in face units, holding eye `index`'s socket and ring at `size` and as drawn."""
+    cx, cy = eye_centres()[index]
+    grow = max(1.0, size)
+    rx, ry = SOCKET[0] * grow + OUTLINE + 3, SOCKET[1] * grow + OUTLINE + 3
+    return (cx - rx, cy - ry, cx + rx, cy + ry)
 
 
 def draw_mouth(size: Tuple[int, int], name: str) -> Image.Image:

@@ -13,7 +13,7 @@ import math
 import threading
 from collections import OrderedDict
 from functools import lru_cache
-from typing import Any, Callable, Dict, Hashable, NamedTuple, Optional, Tuple
+from typing import Any, Callable, Dict, Hashable, List, NamedTuple, Optional, Tuple
 
 import numpy as np
 
@@ -32,7 +32,8 @@ from .artwork import (
     lower_lid_window,
     pupil_window,
 )
-from .compositing import Sprite, alike_rows, sprite_from_rgba
+from .compositing import Rect, Sprite, alike_rows, div255, sprite_from_rgba
+from .eye_sizes import LARGEST, EyeSizes, patched
 from .mouth_drawing import draw_mouth_numbers, mouth_window
 from .skin_mixing import TINTS, SkinPalette, mixed_colour, skin_weights
 from .vector_shapes import Canvas
@@ -55,6 +56,7 @@ class BrowsKey(NamedTuple):
 
 class SkinKey(NamedTuple):
     numbers: Tuple[int, ...]  # SKIN_FIELDS, in 1/SKIN_STEPS
+    eyes: Tuple[int, ...] = (EYE_STEPS, EYE_STEPS)  # the eyes' sizes left to right, in 1/EYE_STEPS
 
 
 _BROWS = BROW_FIELDS["left"] + BROW_FIELDS["right"]
@@ -74,20 +76,23 @@ def _expression(fields: Tuple[str, ...], numbers: Tuple[int, ...], steps: int) -
 def _keys(e: Expression) -> Parts:
     e = finite(e)
     return Parts(
-        SkinKey(_round(e, SKIN_FIELDS, SKIN_STEPS)),
+        SkinKey(_round(e, SKIN_FIELDS, SKIN_STEPS), _eye_keys(e)[2]),
         MouthKey(_round(e, MOUTH_FIELDS, STEPS)),
         BrowsKey(_round(e, _BROWS, STEPS)),
     )
 
 
 @lru_cache(maxsize=64)
-def _eye_keys(e: Expression) -> Tuple[Tuple[int, ...], Tuple[int, ...]]:
+def _eye_keys(e: Expression) -> Tuple[Tuple[int, ...], Tuple[int, ...], Tuple[int, ...]]:
     e = finite(e)
-    sizes = (e.pupil_right, e.pupil_left)
-    tilts = (e.lid_right_angle, e.lid_left_angle)
+
+    def steps(values: Tuple[float, float], low: float, high: float) -> Tuple[int, ...]:
+        return tuple(int(math.floor(min(high, max(low, v)) * EYE_STEPS + 0.5)) for v in values)
+
     return (
-        tuple(int(math.floor(min(1.6, max(0.5, v)) * EYE_STEPS + 0.5)) for v in sizes),
-        tuple(int(math.floor(min(1.0, max(-1.0, v)) * EYE_STEPS + 0.5)) for v in tilts),
+        steps((e.pupil_right, e.pupil_left), 0.5, 1.6),
+        steps((e.lid_right_angle, e.lid_left_angle), -1.0, 1.0),
+        steps((e.eye_right, e.eye_left), 0.8, LARGEST),
     )
 
 
@@ -164,12 +169,13 @@ class DrawnParts:
         self._basis: Dict[int, Sprite] = {}
         self._palette: Any = None  # a SkinPalette, False where there is none, None not yet
         self._making_palette = threading.Lock()
-        self._eyes: OrderedDict[Tuple[str, int, int], Any] = OrderedDict()
+        self._eyes: OrderedDict[Tuple[Any, ...], Any] = OrderedDict()
+        self.eye_sizes = EyeSizes(size)
 
     @staticmethod
-    def eye_keys(e: Expression) -> Tuple[Tuple[int, ...], Tuple[int, ...]]:
-        """(pupil sizes, lid tilts) of the eyes left to right on the screen (the robot's right
-        eye first), in 1/EYE_STEPS."""
+    def eye_keys(e: Expression) -> Tuple[Tuple[int, ...], Tuple[int, ...], Tuple[int, ...]]:
+        """(pupil sizes, lid tilts, eye sizes) of the eyes left to right on the screen (the
+        robot's right eye first), in 1/EYE_STEPS."""
         return _eye_keys(e)
 
     def pupil(self, index: int, size: int) -> Sprite:
@@ -177,34 +183,43 @@ class DrawnParts:
         cx, cy = eye_centres()[index]
         scale = size / EYE_STEPS
         return self._kept(
-            ("pupil", index, size),
+            ("pupil", index, size, 0),
             lambda: _drawn_sprite(
                 self.size, pupil_window(index, scale), lambda c: draw_pupil(c, cx, cy, scale)
             ),
         )
 
-    def lid(self, index: int, tilt: int) -> Tuple[Sprite, Tuple[int, int]]:
-        """Eye `index`'s lid, closed, tilted by `tilt` (1/EYE_STEPS), with its band of alike rows."""
+    def lid(self, index: int, tilt: int, size: int = EYE_STEPS) -> Tuple[Sprite, Tuple[int, int]]:
+        """Eye `index`'s lid, closed, tilted by `tilt` and as large as an eye of `size` (both in
+        1/EYE_STEPS), with its band of alike rows."""
         cx, cy = eye_centres()[index]
-        angle = tilt / EYE_STEPS
+        angle, k = tilt / EYE_STEPS, size / EYE_STEPS
 
         def draw() -> Tuple[Sprite, Tuple[int, int]]:
-            sprite = _drawn_sprite(self.size, lid_window(index, angle), lambda c: draw_lid(c, cx, cy, angle))
+            window = lid_window(index, angle, k)
+            sprite = _drawn_sprite(self.size, window, lambda c: draw_lid(c, cx, cy, angle, k))
             return sprite, alike_rows(sprite)
 
-        return self._kept(("lid", index, tilt), draw)
+        return self._kept(("lid", index, tilt, size), draw)
 
-    def lower_lid(self, index: int) -> Tuple[Sprite, Tuple[int, int]]:
-        """Eye `index`'s lower lid, risen all the way, with its band of alike rows."""
+    def lower_lid(self, index: int, size: int = EYE_STEPS) -> Tuple[Sprite, Tuple[int, int]]:
+        """Eye `index`'s lower lid, risen all the way, for an eye of `size` (1/EYE_STEPS), with
+        its band of alike rows."""
         cx, cy = eye_centres()[index]
+        k = size / EYE_STEPS
 
         def draw() -> Tuple[Sprite, Tuple[int, int]]:
-            sprite = _drawn_sprite(self.size, lower_lid_window(index), lambda c: draw_lower_lid(c, cx, cy))
+            window = lower_lid_window(index, k)
+            sprite = _drawn_sprite(self.size, window, lambda c: draw_lower_lid(c, cx, cy, k))
             return sprite, alike_rows(sprite)
 
-        return self._kept(("lower lid", index, 0), draw)
+        return self._kept(("lower lid", index, size, 0), draw)
 
-    def _kept(self, key: Tuple[str, int, int], draw: Callable[[], Any]) -> Any:
+    def white(self, index: int, size: int) -> Tuple[Rect, np.ndarray]:
+        """The eye white round eye `index` with the socket of an eye of `size` (1/EYE_STEPS)."""
+        return self.eye_sizes.white(index, size / EYE_STEPS)
+
+    def _kept(self, key: Tuple[Any, ...], draw: Callable[[], Any]) -> Any:
         found = self._eyes.get(key)
         if found is None:
             found = self._eyes[key] = draw()
@@ -228,15 +243,24 @@ class DrawnParts:
         return _drawn_sprite(self.size, brows_window(e), lambda c: draw_brows_numbers(c, e))
 
     def _skin(self, key: Hashable) -> Sprite:
-        """A skin between the named ones (drawing/skin_mixing.py)."""
+        """A skin between the named ones (drawing/skin_mixing.py), its sockets cut for eyes of
+        other sizes (drawing/eye_sizes.py)."""
         numbers = _skin_numbers(key)
         palette = self.palette()
         if palette is not None:
-            return palette.sprite(*numbers)
-        base = self.skins[skin_weights(*numbers)[0]]
-        plain = [self._plain(i).rgb_a for i in range(TINTS)]
-        cheeky = [self.skins[i].rgb_a for i in range(TINTS + 1)]
-        return Sprite(base.x, base.y, mixed_colour(plain, cheeky, *numbers), base.inv)
+            sprite = palette.sprite(*numbers)
+        else:
+            base = self.skins[skin_weights(*numbers)[0]]
+            plain = [self._plain(i).rgb_a for i in range(TINTS)]
+            cheeky = [self.skins[i].rgb_a for i in range(TINTS + 1)]
+            sprite = Sprite(base.x, base.y, mixed_colour(plain, cheeky, *numbers), base.inv)
+        return patched(sprite, self._cuts(key))
+
+    def _cuts(self, key: Hashable) -> List[Tuple[Rect, np.ndarray, np.ndarray]]:
+        """The skin of `key` round each eye of another size, with its socket."""
+        numbers = _skin_numbers(key)
+        eyes = key.eyes  # type: ignore[attr-defined]
+        return [self.eye_sizes.cut(i, k / EYE_STEPS, numbers) for i, k in enumerate(eyes) if k != EYE_STEPS]
 
     def named(self, parts: Parts) -> bool:
         """Whether every part of `parts` is one of the theme's own (a preset's): a still
@@ -246,13 +270,26 @@ class DrawnParts:
             for book, key in ((self.skins, parts.skin), (self.mouths, parts.mouth), (self.brows, parts.brows))
         )
 
-    def skin_stacked(self, key: Hashable) -> Optional[np.ndarray]:
-        """The skin of `key` laid alone, premultiplied, (h, w, 3) uint8, as the renderer stacks
-        it; None for a named skin (the renderer keeps those) or without a palette."""
+    def skin_stacked(self, key: Hashable) -> Optional[Tuple[np.ndarray, Optional[np.ndarray]]]:
+        """The skin of `key` laid alone, as the renderer stacks it: premultiplied colour,
+        (h, w, 3) uint8, and 255 - alpha, (h, w, 1) uint8, or None where it is the named skins'
+        own (eyes as drawn). None for a named skin (the renderer keeps those) or without a
+        palette."""
         if key in self.skins or key in self.skins._aliases:
             return None
         palette = self.palette()
-        return None if palette is None else palette.stacked(*_skin_numbers(key))
+        if palette is None:
+            return None
+        prem = palette.stacked(*_skin_numbers(key))
+        cuts = self._cuts(key)
+        if not cuts:
+            return prem, None
+        inv = palette.inv[..., :1].astype(np.uint8)
+        for (x0, y0, x1, y1), colour, clear in cuts:
+            region = (slice(y0 - palette.y, y1 - palette.y), slice(x0 - palette.x, x1 - palette.x))
+            prem[region] = div255(colour)
+            inv[region] = clear[..., :1]
+        return prem, inv
 
     def palette(self) -> Optional[SkinPalette]:
         """The named skins as a palette, made when a skin between them is first asked for."""

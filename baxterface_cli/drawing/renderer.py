@@ -15,7 +15,6 @@ arithmetic; the tests hold the cached path to its exact pixels.
 
 from __future__ import annotations
 
-import math
 import threading
 from collections import OrderedDict
 from typing import Any, List, NamedTuple, Optional, Tuple
@@ -23,74 +22,14 @@ from typing import Any, List, NamedTuple, Optional, Tuple
 import numpy as np
 
 from ..core.face_state import FaceState, Parts
-from ..core.geometry import clamp_to_ellipse
 from ..core.presets import expression_of
-from .artwork import LOWER_TRAVEL
 from .compositing import Rect, Sprite, div255, div255_inplace, finish, intersect, lay
 from .drawn_parts import EYE_STEPS
+from .pose import LOWER_TRAVEL, Pose, eye_sprite, lid_sprite, lower_lid_sprite, pose, round_half_away
 from .theme_fitting import ThemeLayers
 
 PARTS_KEPT = 12  # part combinations kept: every emotion's, with room to spare
 SKINS_KEPT = 8  # skins kept, each a whole screen: every named one, and some between
-
-
-class Pose(NamedTuple):
-    """Where the moving layers are, in whole screen pixels."""
-
-    eye_dx: int
-    eye_dy: int
-    lid_dy: Tuple[int, ...]  # one per lid sprite of the theme, as layers.lids
-    # The drawn face's pupil sizes and lid tilts, per eye left to right (DrawnParts.eye_keys);
-    # empty: the theme's own sprites.
-    pupils: Tuple[int, ...] = ()
-    tilts: Tuple[int, ...] = ()
-    lower_dy: Tuple[int, ...] = ()  # the drawn face's lower lids, how far each has sunk
-
-
-def pose(layers: ThemeLayers, state: FaceState) -> Pose:
-    """Screen offsets for a state: eyes clamped to their ellipse, each lid to 0..1."""
-    # A state is plain data anyone can build: a number that is not finite
-    # draws as the rest position rather than failing.
-    x, y = clamp_to_ellipse(*(v if math.isfinite(v) else 0.0 for v in (state.eye_x, state.eye_y)))
-    openness = _unit(state.eyelids)
-    shape = state.expression
-    share = (1.0, 1.0) if shape is None else (_unit(shape.lid_right), _unit(shape.lid_left))
-    middle = layers.size[0] / 2
-    s = layers.scale
-    # The lid left of the screen's middle is the robot's right eye's.
-    lids = tuple(
-        -_round(layers.lid_travel * openness * share[0 if lid.x + lid.width / 2 < middle else 1])
-        for lid in layers.lids
-    )
-    if layers.drawn is None or shape is None or len(layers.eyes) != 2 or len(layers.lids) != 2:
-        return Pose(_round(x * s), _round(y * s), lids)
-    pupils, tilts = layers.drawn.eye_keys(shape)
-    risen = (_unit(shape.lower_lid_right, 0.0), _unit(shape.lower_lid_left, 0.0))
-    lower = tuple(_round((1.0 - r) * LOWER_TRAVEL * s) for r in risen)
-    return Pose(_round(x * s), _round(y * s), lids, pupils, tilts, lower)
-
-
-def eye_sprite(layers: ThemeLayers, at: Pose, i: int) -> Sprite:
-    """Eye i's pupil as `at` draws it: the theme's, or the drawn face's at another size."""
-    if not at.pupils or at.pupils[i] == EYE_STEPS:
-        return layers.eyes[i]
-    return layers.drawn.pupil(i, at.pupils[i])  # type: ignore[union-attr]
-
-
-def lid_sprite(layers: ThemeLayers, at: Pose, i: int) -> Tuple[Sprite, Tuple[int, int]]:
-    """Lid i as `at` draws it, with its band of alike rows: the theme's, or a tilted one."""
-    if not at.tilts or at.tilts[i] == 0:
-        return layers.lids[i], layers.lid_bands[i]
-    return layers.drawn.lid(i, at.tilts[i])  # type: ignore[union-attr]
-
-
-def _unit(v: float, otherwise: float = 1.0) -> float:
-    return min(1.0, max(0.0, v)) if math.isfinite(v) else otherwise
-
-
-def _round(v: float) -> int:
-    # Half away from zero, so a mirrored face gives mirrored pixels.
-    return int(v + 0.5) if v >= 0 else -int(-v + 0.5)
 
 
 class TopStack(NamedTuple):
@@ -150,10 +89,19 @@ def bottom_stack(layers: ThemeLayers, at: Pose, rect: Rect) -> np.ndarray:
     """Background, pupils and lids over `rect`, as uint16 colour."""
     x0, y0, x1, y1 = rect
     under = layers.background[y0:y1, x0:x1].astype(np.uint16)
+    for i, size in enumerate(at.sizes):
+        if size != EYE_STEPS:  # a white shaded to the rim of a socket of another size
+            box, white = layers.drawn.white(i, size)  # type: ignore[union-attr]
+            hit = intersect(rect, box)
+            if hit is not None:
+                a0, b0, a1, b1 = hit
+                under[b0 - y0 : b1 - y0, a0 - x0 : a1 - x0] = white[
+                    b0 - box[1] : b1 - box[1], a0 - box[0] : a1 - box[0]
+                ]
     for i in range(len(layers.eyes)):
         lay(under, rect, eye_sprite(layers, at, i), at.eye_dx, at.eye_dy)
     for i, dy in enumerate(at.lower_dy):
-        lay(under, rect, layers.drawn.lower_lid(i)[0], 0, dy)  # type: ignore[union-attr]
+        lay(under, rect, lower_lid_sprite(layers, at, i)[0], 0, dy)
     for i, dy in enumerate(at.lid_dy):
         lay(under, rect, lid_sprite(layers, at, i)[0], 0, dy)
     return under
@@ -304,16 +252,24 @@ class Renderer:
         self._skins: OrderedDict[Any, Tuple[TopStack, List[Rect]]] = OrderedDict()
         self._mix: Optional[np.ndarray] = None
         self._moving: Optional[_Canvas] = None  # the drawn face between its presets
+        self._sockets: OrderedDict[Any, List[Rect]] = OrderedDict()  # by the eyes' sizes
 
     @property
     def size(self) -> Tuple[int, int]:
         return self.layers.size
 
     def prepare_in_background(self) -> None:
-        """Make, off this thread, what the drawn face's first skin between two named ones needs
-        (its palette, most of a second): a live face's first mood shows at once."""
-        if self.layers.drawn is not None:
-            threading.Thread(target=self.layers.drawn.palette, name="baxterface-palette", daemon=True).start()
+        """Make, off this thread, what the drawn face's first skin between two named ones and
+        its first eye of another size need (palettes, a second or two): a live face's first
+        mood or `eyes 1.1` shows at once."""
+        drawn = self.layers.drawn
+        if drawn is not None:
+
+            def prepare() -> None:
+                drawn.palette()
+                drawn.eye_sizes.prepare()
+
+            threading.Thread(target=prepare, name="baxterface-palette", daemon=True).start()
 
     def frame_key(self, state: FaceState) -> Any:
         """A value equal for two states exactly when their frames are the same: a sink that
@@ -376,10 +332,17 @@ class Renderer:
     def _skin(self, key: Any) -> Tuple[TopStack, List[Rect]]:
         """A skin's stack and socket boxes: a named one's kept, one between them mixed."""
         drawn = self.layers.drawn
-        prem = None if drawn is None else drawn.skin_stacked(key)
-        if prem is not None:  # between the named skins: their outline, so their sockets
-            named = self._skin(next(iter(self.layers.skins)))
-            return TopStack(prem, named[0].inv), named[1]
+        stacked = None if drawn is None else drawn.skin_stacked(key)
+        if stacked is not None:  # between the named skins
+            prem, inv = stacked
+            if inv is None:  # their outline, so their sockets
+                named = self._skin(next(iter(self.layers.skins)))
+                return TopStack(prem, named[0].inv), named[1]
+            if key.eyes not in self._sockets:  # eyes of other sizes: sockets of their own
+                self._sockets[key.eyes] = socket_boxes(inv)
+                while len(self._sockets) > SKINS_KEPT:
+                    self._sockets.popitem(last=False)
+            return TopStack(prem, inv), self._sockets[key.eyes]
         if key not in self._skins:
             skin = skin_stack(self.layers, key)
             self._skins[key] = (skin, socket_boxes(skin.inv))
@@ -425,10 +388,11 @@ class Renderer:
             lid, band = lid_sprite(self.layers, new, i)
             rects += _slid(before, lid, band, was, now)
         if old.lower_dy or new.lower_dy:  # none drawn is the same as sunk out of sight
-            sunk = (_round(LOWER_TRAVEL * self.layers.scale),) * 2
+            sunk = (round_half_away(LOWER_TRAVEL * self.layers.scale),) * 2
             for i, (was, now) in enumerate(zip(old.lower_dy or sunk, new.lower_dy or sunk)):
-                lid, band = self.layers.drawn.lower_lid(i)  # type: ignore[union-attr]
-                rects += _slid(lid, lid, band, was, now)
+                before, _ = lower_lid_sprite(self.layers, old, i)
+                lid, band = lower_lid_sprite(self.layers, new, i)
+                rects += _slid(before, lid, band, was, now)
         return rects
 
     def _redraw(self, canvas: _Canvas, rect: Rect, box: Rect, top: TopStack, at: Pose) -> None:

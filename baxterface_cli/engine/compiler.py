@@ -204,7 +204,7 @@ class _Compiler:
         duration = move_seconds(s)
         fields = CONTROLS[(s.part, s.control)].sides[s.side]
         target = Expression()._replace(**{f: s.value for f in fields})
-        if s.part in ("eyelids", "pupils"):  # the eyes: no named part to change
+        if s.part in ("eyelids", "pupils", "eyes"):  # the eyes: no named part to change
             self.later(t, lambda at: self.shape.move(at, duration, target, s.timing.easing, fields))
         else:
             self.change_shape(t, target, fields, duration, s.timing.easing)

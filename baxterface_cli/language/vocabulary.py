@@ -72,4 +72,5 @@ KEYWORDS: Tuple[str, ...] = (
     "mood",
     "wink",
     "pupils",
+    "eyes",
 )

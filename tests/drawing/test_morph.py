@@ -126,6 +126,24 @@ def test_the_lower_lids_rise_into_each_eye_on_its_own(layers):
     assert np.array_equal(renderer.render(state), compose(layers, state))
 
 
+def test_each_eye_grows_and_shrinks_on_its_own_and_its_lids_still_shut_it(layers):
+    happy = emotion_preset("happy")
+    rest = compose(layers, FaceState(expression=happy))
+    big = compose(layers, FaceState(expression=happy._replace(eye_left=1.2)))
+    # The robot's left eye, on the viewer's right, shows white above where its socket was.
+    above = (slice(100, 112), slice(700, 724))
+    assert rest[above].mean() < 200 < big[above].mean()
+    assert np.array_equal(big[:, :450], rest[:, :450])  # the other eye as it was
+    shut = compose(layers, FaceState(eyelids=0.0, expression=happy._replace(eye_left=1.2, eye_right=0.8)))
+    white = np.all(shut[60:460] > 235, axis=-1)  # the whites' colour: none shows through shut lids
+    assert white.sum() == 0
+    renderer = Renderer(layers)
+    for i, (left, right) in enumerate([(1.0, 1.0), (1.1, 0.9), (1.2, 0.8), (1.2, 0.8), (0.9, 1.15), (1.0, 1.0)]):
+        e = happy._replace(eye_left=left, eye_right=right, lower_lid_left=0.1 * i)
+        state = FaceState(eye_x=7.0 * i, eye_y=-3.0 * i, eyelids=1.0 - 0.15 * (i % 3), expression=e)
+        assert np.array_equal(renderer.render(state), compose(layers, state)), (left, right)
+
+
 def test_numbers_out_of_range_or_not_finite_still_draw(layers):
     wild = emotion_preset("happy")._replace(
         mouth_open=50.0, mouth_width=-3.0, brow_left_height=float("nan"), tint=99.0, sleepy=-1.0
