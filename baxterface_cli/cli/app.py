@@ -128,12 +128,31 @@ FOLLOW_FROM_OPT = typer.Option(
 )
 
 
-def following_from(path: Optional[str], animation, command: str, say):
+FACE_POLICY_OPT = typer.Option(
+    None,
+    "--face-policy",
+    metavar="NAME",
+    help="Which face --follow-from's camera images have followed among several: nearest (the "
+    "largest, the default), central (nearest the middle) or longest (seen the longest).",
+)
+
+
+def following_from(path: Optional[str], animation, command: str, say, face_policy: Optional[str] = None):
     """The rehearsal that follows what FILE shows (`--follow-from`), or None without one.
 
     `say` takes a warning line; a file that cannot be used is a clear exit 1.
     """
+    from ..robot.face_choice import DEFAULT_FACE_POLICY, FACE_POLICIES, FACE_POLICY_CHOICES
+
+    if face_policy is not None and face_policy not in FACE_POLICIES:
+        raise typer.BadParameter(
+            f"must be {FACE_POLICY_CHOICES}, not {face_policy[:40]!r}", param_hint="--face-policy"
+        )
     if path is None:
+        if face_policy is not None:
+            raise typer.BadParameter(
+                "chooses among the faces in --follow-from FILE", param_hint="--face-policy"
+            )
         return None
     from ..engine.effects import Follow
     from ..play.rehearsal import FollowSourceError, Rehearsal, open_source
@@ -144,7 +163,8 @@ def following_from(path: Optional[str], animation, command: str, say):
         raise fail(f"baxterface {command}: {e}") from None
     if not any(isinstance(cue.effect, Follow) for cue in animation.timeline.cues):
         say(f"baxterface {command}: the script follows nothing, so --follow-from changes nothing")
-    return Rehearsal(source, lambda message: say(f"baxterface {command}: {message}"))
+    warn = lambda message: say(f"baxterface {command}: {message}")  # noqa: E731
+    return Rehearsal(source, warn, face_policy or DEFAULT_FACE_POLICY)
 
 
 def animation_for(script: Script, seed: Optional[int], idle: bool, crossfade: Optional[float]):

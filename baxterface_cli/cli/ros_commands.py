@@ -49,7 +49,8 @@ def node(ctx: typer.Context) -> None:
     display_chatter:=/other, _fps:=30, _size:=1920x1200, _theme:=DIR,
     _idle:=false, _selftest:=true, _display_topic:=/robot/head_display,
     _audio:=soundplay|local|none, _camera:=/cameras/head_camera/image,
-    _camera_hfov:=76 (degrees). Commands (old or new) arrive on
+    _camera_hfov:=76 (degrees; by default the camera's camera_info says),
+    _face_policy:=nearest|central|longest. Commands (old or new) arrive on
     display_chatter and take over at once; scripts sent to ~queue wait for
     what is playing. Frames go to /robot/xdisplay (bgr8), speech to
     sound_play on /robotsound, what the face is doing to ~state (JSON).

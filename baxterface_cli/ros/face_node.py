@@ -8,7 +8,9 @@ mode's speaker, and reports what the face is doing on `~state` (JSON,
 latched). All work happens in one loop; subscriber callbacks only hand
 messages over. The head camera (`_camera:=TOPIC`) is subscribed to only
 while a face is followed, and its images are looked at on the camera
-watch's own thread, never on the loop.
+watch's own thread, never on the loop. The camera's focal length comes from
+its `camera_info` (beside the image topic) when it publishes one, unless
+`_camera_hfov` gives the field of view.
 """
 
 from __future__ import annotations
@@ -31,7 +33,7 @@ from ..engine.intake import Intake
 from ..engine.live_face import LiveFace, sleep_face
 from ..robot.camera_watch import CameraWatch
 from .messages import message_class
-from .node_settings import NodeSettings, SettingError, theme_layers
+from .node_settings import NodeSettings, SettingError, camera_focal, camera_info_topic, theme_layers
 from .robot_link import WARN_EVERY, connect_robot
 from .speakers import open_speaker
 
@@ -90,12 +92,15 @@ class FaceNode:
         self.speaker = open_speaker(settings.audio, rospy, self.log.warn)
         self.saying: Optional[Tuple[str, float]] = None  # (text, when it ends) while the face speaks
         self.camera_topic = settings.camera
-        hfov = settings.camera_hfov
+        hfov, policy = settings.camera_hfov, settings.face_policy
+        # The field of view given wins; without it, the camera says its focal length.
+        self.camera_info_topic = camera_info_topic(settings.camera) if hfov is None else None
         self.camera_sub: Any = None
+        self.camera_info_sub: Any = None
 
         def camera(hand_to):
             warn = lambda text: rospy.logwarn_throttle(WARN_EVERY, text)  # noqa: E731
-            return CameraWatch(hand_to, hfov_deg=hfov, decode=self._decode_image, warn=warn)
+            return CameraWatch(hand_to, hfov_deg=hfov, decode=self._decode_image, warn=warn, policy=policy)
 
         self.robot = connect_robot(
             rospy, warn=self.log.warn, info=self.log.info, speak=self._speak, camera=camera
@@ -159,6 +164,17 @@ class FaceNode:
             raise ValueError(f"its encoding is {msg.encoding!r}; the face follower takes bgr8, rgb8 or mono8")
         return self.bridge.imgmsg_to_cv2(msg, desired_encoding="bgr8")
 
+    def _camera_info(self, msg: Any) -> None:
+        focal = camera_focal(msg.K, msg.binning_x)
+        if focal is None:
+            self.rospy.logwarn_throttle(
+                WARN_EVERY,
+                f"{self.camera_info_topic} gives no focal length (K[0] is {msg.K[0] if msg.K else None}); "
+                "following a face takes a field of view of 76 degrees (_camera_hfov:=DEGREES sets another)",
+            )
+        else:
+            self.robot.camera.lens(focal)
+
     def _watch_camera(self) -> None:
         """Subscribe to the camera while a face is followed, and only then: images are heavy."""
         wanted = self.robot.gaze.wants_camera
@@ -166,9 +182,18 @@ class FaceNode:
             self.camera_sub = self.rospy.Subscriber(
                 self.camera_topic, self.Image, self._image, queue_size=1, buff_size=IMAGE_BUFFER
             )
+            if self.camera_info_topic is not None:
+                from sensor_msgs.msg import CameraInfo
+
+                self.camera_info_sub = self.rospy.Subscriber(
+                    self.camera_info_topic, CameraInfo, self._camera_info, queue_size=1
+                )
         elif not wanted and self.camera_sub is not None:
             self.camera_sub.unregister()
             self.camera_sub = None
+            if self.camera_info_sub is not None:
+                self.camera_info_sub.unregister()
+                self.camera_info_sub = None
 
     def _speak(self, effect: Speech) -> None:
         # Timed here, not by the script's status: a take-over restarts the script's clock.
