@@ -142,17 +142,18 @@ def following_from(path: Optional[str], animation, command: str, say, face_polic
 
     `say` takes a warning line; a file that cannot be used is a clear exit 1.
     """
-    from ..robot.face_choice import DEFAULT_FACE_POLICY, FACE_POLICIES, FACE_POLICY_CHOICES
+    if face_policy is not None:
+        from ..robot.face_choice import FACE_POLICIES, FACE_POLICY_CHOICES
 
-    if face_policy is not None and face_policy not in FACE_POLICIES:
-        raise typer.BadParameter(
-            f"must be {FACE_POLICY_CHOICES}, not {face_policy[:40]!r}", param_hint="--face-policy"
-        )
-    if path is None:
-        if face_policy is not None:
+        if face_policy not in FACE_POLICIES:
+            raise typer.BadParameter(
+                f"must be {FACE_POLICY_CHOICES}, not {face_policy[:40]!r}", param_hint="--face-policy"
+            )
+        if path is None:
             raise typer.BadParameter(
                 "chooses among the faces in --follow-from FILE", param_hint="--face-policy"
             )
+    if path is None:
         return None
     from ..engine.effects import Follow
     from ..play.rehearsal import FollowSourceError, Rehearsal, open_source
@@ -164,7 +165,7 @@ def following_from(path: Optional[str], animation, command: str, say, face_polic
     if not any(isinstance(cue.effect, Follow) for cue in animation.timeline.cues):
         say(f"baxterface {command}: the script follows nothing, so --follow-from changes nothing")
     warn = lambda message: say(f"baxterface {command}: {message}")  # noqa: E731
-    return Rehearsal(source, warn, face_policy or DEFAULT_FACE_POLICY)
+    return Rehearsal(source, warn) if face_policy is None else Rehearsal(source, warn, face_policy)
 
 
 def animation_for(script: Script, seed: Optional[int], idle: bool, crossfade: Optional[float]):

@@ -33,7 +33,7 @@ REFERENCE_WIDTH = 640.0  # face sizes below are for an image this wide, and scal
 SMALLEST = 22.0  # the smallest face size searched: a face 24 pixels wide is found at 22 to 27
 SMALLEST_TURNED = 25.0  # ... and turned
 FINE_STEP = 1.15  # between the sizes of the small faces (up to COARSE), the hard ones to find ...
-COARSE = 46.0
+COARSE = 58.0
 COARSE_STEP = 1.2  # ... and of the larger ones, easily found at any size near theirs
 TURNS = (20.0, -20.0)  # degrees the image is turned to show a tilted face upright ...
 TURNED_STEP = 1.2  # ... at fewer sizes, as such a face, once found, is tracked at any tilt
@@ -117,13 +117,14 @@ class Plan(NamedTuple):
     passes: List[List[Job]]
 
 
-def plan(width: int, height: int) -> Plan:
-    """The jobs of a whole-image search of a `width` x `height` image. A job costs about
-    JOB_WINDOWS: sizes are packed together, and a size that costs more is cut into bands of rows."""
+def plan(width: int, height: int, smallest: float = 0.0) -> Plan:
+    """The jobs of a whole-image search of a `width` x `height` image, for faces `smallest` pixels
+    wide or more. A job costs about JOB_WINDOWS: sizes are packed together, and a size that costs
+    more is cut into bands of rows."""
     scale = width / REFERENCE_WIDTH
 
     def sized(low: float, high: float, step: float) -> List[float]:
-        return [s * scale for s in _sizes(low, high, step) if s * scale >= WINDOW]
+        return [s * scale for s in _sizes(low, high, step) if s * scale >= max(WINDOW, smallest)]
 
     large = sized(COARSE, 0.9 * min(width, height) / scale, COARSE_STEP)
     upright = sized(SMALLEST, COARSE, FINE_STEP)
