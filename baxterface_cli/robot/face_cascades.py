@@ -8,17 +8,18 @@ downloaded). All sizes are in the image's pixels; a face's size is its width.
   cascade's 20-pixel window (the cascade then steps 2 pixels, a tenth of a
   face, at every size), upright or turned by +-20 degrees, on some rows of it.
   `plan` cuts a whole search into jobs of about equal cost, so the follower
-  can spread it over frames: faces 24 pixels wide (at 640 across) cost as
-  much as all the larger ones together.
+  can spread it over frames: faces 24 pixels wide (at 640 across) cost far
+  more than all the larger ones together.
 - **Near** (`near`): the region around where a tracked face is expected,
   scaled so the face is 48 pixels wide and turned to show it upright: a few
   milliseconds at any size.
-- **Check** (`checked`): other cascades, trained apart, on the face turned
-  upright: frontalface_default must find it, and frontalface_alt must agree
-  as well, strongly or with an eye on each side of the upper half (for a face
-  large enough to show its eyes); and the cat-face cascade must not find a
-  cat's face there. A cat, a page of text or a patch of a busy photo that
-  fools one cascade rarely fools them all.
+- **Check** (`verdict`): other cascades, trained apart, on the face turned
+  upright and scaled so it is 48 pixels wide: frontalface_default and
+  frontalface_alt must both find it (FOUND); strictly (SURE), alt must also
+  agree strongly over the face as it is, mirrored, turned 10 degrees either
+  way and seen a little nearer and further. A face stays a face in all of
+  them; a cat, a page of text or a patch of a busy photo that fools one
+  cascade seldom does.
 """
 
 from __future__ import annotations

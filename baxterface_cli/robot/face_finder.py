@@ -20,17 +20,22 @@ The pipeline (the searches themselves are face_cascades', the choice between
 people face_choice's), and why each step is there:
 
 1. Sweep: every image gets one job of a whole-image search that is spread
-   over about a second of images, as a face 24 pixels wide can only be found
-   at the camera's full resolution, which is costly: the small faces upright
-   twice, turned each way once, and the large faces (cheap) every fourth image.
-2. Check what the sweep finds that no one tracked is: other cascades must
-   agree it is a face, and it is tracked as a new person.
-3. Track every person on every image, in a small region around where it is
+   over about 1.3 s of images, as a face 24 pixels wide can only be found
+   at the camera's full resolution, which is costly: the small faces upright,
+   then turned 20 degrees each way, and the large faces (cheap) every fourth
+   image. While the nearest face is followed, only larger ones are searched
+   for, which takes a fraction of that.
+2. Check what the sweep finds that no one tracked is: the other cascades must
+   find it too, and it is tracked as a new person.
+3. Track every person (up to three) in a small region around where it is
    expected (its filtered position and speed), turned to show a tilted face
-   upright: a few milliseconds at any size.
-4. Confirm: a person is followed only once it has passed the check twice, a
-   tenth of a second apart or more; the followed one is checked again every
-   0.3 s, so the tracker cannot drift onto something else for long.
+   upright: a few milliseconds at any size; the followed face every image,
+   the others every other.
+4. Confirm: a person is followed only once it has passed the strict check
+   twice, a tenth of a second apart or more, and as often as it failed it; a
+   place that fails it too often is not looked at again for DOUBT seconds.
+   The followed face is checked again every 0.3 s, so the tracker cannot
+   drift onto something else for long.
 5. Choose by the policy (nearest, central or longest; see face_choice), with
    hysteresis, and smooth the centre with a small alpha-beta filter, light
    enough not to lag behind a moving face.
