@@ -51,7 +51,7 @@ SCRIPTS: Dict[str, str] = {
     MOOD: "repeat 5 { mood 1 0 in 1s; mood 0 1 in 1s; mood -1 0 in 1s; mood 0 -1 in 1s }",
     # The default face's mouth curve is 1: down first, so that every frame moves it.
     "mouth curve sweep": "repeat 10 { mouth curve -1 in 1s; mouth curve 1 in 1s }",
-    # Each step 1 s: the lids' 0.3 s (happy's stay open), a 0.15 s morph, then held.
+    # Each step 1 s: a 0.3 s morph (happy's lids stay open), then held.
     "happy 0.1 .. 1 .. 0 in steps": "\n".join(f"happy {k:g}; wait 0.7s" for k in HAPPY_STEPS),
 }
 EXTRAS = [name for name in SCRIPTS if name not in (LOOK, MOOD)]

@@ -1,6 +1,7 @@
 """Following, against the baselines, in one run: the head sonar (baxterface's
 follower against the original's), then the head camera (bench/follow_camera.py:
-baxterface's FaceFollower against a plain Haar detector on every full frame).
+baxterface's FaceFollower against the follower before far faces and a plain
+Haar detector on every full frame).
 
     python bench/bench_follow.py
 

@@ -466,9 +466,9 @@ def sonar_walk(seconds: float = 12.0, width: int = 1000, height: int = 360) -> I
     return image
 
 
-def face_following(times=(1.5, 3.2, 5.0, 6.6)) -> Image.Image:
-    """Camera frames of a synthetic scene (tests/support/face_streams.py), where the follower looks in
-    each (the cross), and the face `play --follow-from` draws for it."""
+def face_following(times=(1.5, 3.2, 5.0, 6.6), scene="combined") -> Image.Image:
+    """Camera frames of a synthetic scene (tests/support/face_streams.py or far_streams.py), where
+    the follower looks in each (the cross), and the face `play --follow-from` draws for it."""
     import math
     import sys
 
@@ -476,9 +476,11 @@ def face_following(times=(1.5, 3.2, 5.0, 6.6)) -> Image.Image:
     from baxterface_cli.play.rehearsal import Rehearsal
     from baxterface_cli.robot.face_finder import BAXTER_HEAD_CAMERA_HFOV
     from baxterface_cli.robot.following import DEGREES_PER_RADIAN, PIXELS_PER_ELEVATION
-    from face_streams import combined
+    import face_streams
+    import far_streams
 
-    stream = combined()
+    stream = getattr(face_streams, scene, None) or getattr(far_streams, scene)
+    stream = stream()
 
     class Frames:  # a --follow-from source made of the stream's frames
         has = frozenset({"image"})
@@ -588,6 +590,7 @@ def main() -> None:
     crossfade().save(OUT / "crossfade.png", optimize=True)
     sonar_walk().save(OUT / "sonar-walk.png", optimize=True)
     save_sheet(face_following(), OUT / "face-following.png")
+    save_sheet(face_following((1.0, 2.0, 3.0, 4.5), "walking_away"), OUT / "far-faces.png")
     studio_page(OUT / "studio.png")
     screen_page(OUT / "screen.png")
     try:
@@ -606,6 +609,7 @@ def main() -> None:
         "crossfade.png",
         "sonar-walk.png",
         "face-following.png",
+        "far-faces.png",
         "lipsync.png",
         "lipsync-recorded.png",
         "studio.png",

@@ -149,11 +149,31 @@ FOLLOW_FROM_OPT = typer.Option(
 )
 
 
-def following_from(path: Optional[str], animation, command: str, say):
+FACE_POLICY_OPT = typer.Option(
+    None,
+    "--face-policy",
+    metavar="NAME",
+    help="Which face --follow-from's camera images have followed among several: nearest (the "
+    "largest, the default), central (nearest the middle) or longest (seen the longest).",
+)
+
+
+def following_from(path: Optional[str], animation, command: str, say, face_policy: Optional[str] = None):
     """The rehearsal that follows what FILE shows (`--follow-from`), or None without one.
 
     `say` takes a warning line; a file that cannot be used is a clear exit 1.
     """
+    if face_policy is not None:
+        from ..robot.face_choice import FACE_POLICIES, FACE_POLICY_CHOICES
+
+        if face_policy not in FACE_POLICIES:
+            raise typer.BadParameter(
+                f"must be {FACE_POLICY_CHOICES}, not {face_policy[:40]!r}", param_hint="--face-policy"
+            )
+        if path is None:
+            raise typer.BadParameter(
+                "chooses among the faces in --follow-from FILE", param_hint="--face-policy"
+            )
     if path is None:
         return None
     from ..engine.effects import Follow
@@ -165,7 +185,8 @@ def following_from(path: Optional[str], animation, command: str, say):
         raise fail(f"baxterface {command}: {e}") from None
     if not any(isinstance(cue.effect, Follow) for cue in animation.timeline.cues):
         say(f"baxterface {command}: the script follows nothing, so --follow-from changes nothing")
-    return Rehearsal(source, lambda message: say(f"baxterface {command}: {message}"))
+    warn = lambda message: say(f"baxterface {command}: {message}")  # noqa: E731
+    return Rehearsal(source, warn) if face_policy is None else Rehearsal(source, warn, face_policy)
 
 
 def animation_for(script: Script, seed: Optional[int], idle: bool, crossfade: Optional[float]):

@@ -11,6 +11,7 @@ import typer
 from ..language.diagnostics import ScriptError
 from .app import (
     CROSSFADE_OPT,
+    FACE_POLICY_OPT,
     FOLLOW_FROM_OPT,
     FPS_HELP,
     IDLE_ON_OPT,
@@ -47,6 +48,7 @@ def play(
     idle: bool = IDLE_ON_OPT,
     crossfade: Optional[float] = CROSSFADE_OPT,
     follow_from: Optional[str] = FOLLOW_FROM_OPT,
+    face_policy: Optional[str] = FACE_POLICY_OPT,
 ) -> None:
     """Play a script in real time: in a window, or in this terminal.
 
@@ -86,7 +88,7 @@ def play(
 
         return open_device(lambda message: say(f"baxterface play: {message}"))
 
-    follow = following_from(follow_from, animation, "play", say)
+    follow = following_from(follow_from, animation, "play", say, face_policy)
     screen = WindowScreen() if window else TerminalScreen()
     player = Player(animation, renderer, screen, fps, sound=open_sound, follow=follow)
     poll = _watcher(script_path, seed, idle, crossfade, player) if watch else None

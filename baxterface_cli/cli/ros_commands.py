@@ -79,12 +79,14 @@ def node(ctx: typer.Context, ros: Optional[int] = ROS_OPT) -> None:
     display_chatter:=/other _fps:=30, on ROS 2 as --ros-args -r
     display_chatter:=/other -p fps:=30. Parameters: fps, size (1920x1200),
     theme (DIR), idle, selftest, display_topic (/robot/head_display), audio
-    (soundplay|local|none), camera (an image topic), camera_hfov (degrees),
-    recordings (FOLDER: where 'say file' may read; without it, none is read).
-    Commands (old or new) arrive on display_chatter and take over at once;
-    scripts sent to ~queue wait for what is playing. Frames go to
-    /robot/xdisplay (bgr8), speech to sound_play on /robotsound (ROS 1) or
-    this machine's sound device (ROS 2), what the face is doing to ~state (JSON).
+    (soundplay|local|none), camera (an image topic), camera_hfov (degrees; by
+    default the camera's camera_info says), face_policy
+    (nearest|central|longest), recordings (FOLDER: where 'say file' may read;
+    without it, none is read). Commands (old or new) arrive on display_chatter
+    and take over at once; scripts sent to ~queue wait for what is playing.
+    Frames go to /robot/xdisplay (bgr8), speech to sound_play on /robotsound
+    (ROS 1) or this machine's sound device (ROS 2), what the face is doing to
+    ~state (JSON).
     """
     version = _version("node", ros)
     words, ros_args = _split_ros_args(list(ctx.args), version, "node")

@@ -14,6 +14,7 @@ from ..language.syntax_tree import to_json
 from .app import (
     CROSSFADE_OPT,
     DEFAULT_SEED,
+    FACE_POLICY_OPT,
     FOLLOW_FROM_OPT,
     FPS_HELP,
     INLINE_OPT,
@@ -125,6 +126,7 @@ def render(
         "baxter", "--robot", metavar="NAME", help="For a .bag: baxter (/robot/xdisplay) or sawyer."
     ),
     follow_from: Optional[str] = FOLLOW_FROM_OPT,
+    face_policy: Optional[str] = FACE_POLICY_OPT,
 ) -> None:
     """Render a script to a video, an animation, a ROS bag or image files.
 
@@ -156,7 +158,8 @@ def render(
             f"must be {' or '.join(DISPLAY_TOPICS)}, not {robot!r}", param_hint="--robot"
         )
     animation = animation_for(script_from(script_path, inline, "render"), seed, idle, crossfade)
-    follow = following_from(follow_from, animation, "render", lambda line: typer.echo(line, err=True))
+    say = lambda line: typer.echo(line, err=True)  # noqa: E731
+    follow = following_from(follow_from, animation, "render", say, face_policy)
     if at is not None and at > animation.duration:
         typer.echo(
             f"baxterface render: --at {at:g} is past the script's end ({animation.duration:.2f} s); "

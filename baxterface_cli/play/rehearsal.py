@@ -24,6 +24,8 @@ from ..core.face_state import FaceState
 from ..engine.effects import Effect, Follow, HeadPan
 from ..engine.timeline import RobotStatus
 from ..extras import need
+from ..robot.camera_watch import CameraWatch
+from ..robot.face_choice import DEFAULT_FACE_POLICY, check_face_policy
 from ..robot.robot_rules import Robot
 
 TRACE_SUFFIXES = (".jsonl", ".ndjson")
@@ -151,11 +153,18 @@ class Rehearsal:
     `look(state, t, status)` is called once a frame with the script's face,
     time and robot status; it returns the face with the eyes where following
     puts them. Time going back (a loop, a reload) starts the source again.
+    `face_policy` chooses among several faces in camera images (face_choice).
     """
 
-    def __init__(self, source: Any, warn: Callable[[str], None] = lambda text: None) -> None:
+    def __init__(
+        self,
+        source: Any,
+        warn: Callable[[str], None] = lambda text: None,
+        face_policy: str = DEFAULT_FACE_POLICY,
+    ) -> None:
         self.source = source
         self.warn = warn
+        self.face_policy = check_face_policy(face_policy)
         self.robot = self._robot()
         self.turned: Optional[float] = None  # the head pan following asked for, if any
         self.following: Tuple[Optional[str], bool] = (None, False)
@@ -194,7 +203,10 @@ class Rehearsal:
         return f"sees the {self.following[0]}" if seen else f"no {self.following[0]} seen"
 
     def _robot(self) -> Robot:
-        robot = Robot(self._sent, warn=self.warn)
+        def camera(hand_to):
+            return CameraWatch(hand_to, threaded=False, warn=self.warn, policy=self.face_policy)
+
+        robot = Robot(self._sent, warn=self.warn, camera=camera)
         robot.gaze.sensors_at = 0.0  # the file's sensors do not turn with our imaginary head
         return robot
 

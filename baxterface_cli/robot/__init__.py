@@ -1,7 +1,8 @@
 """The robot's side, without ROS: the rules between effects and the robot, with the clock passed in.
 
 robot_rules (head only while enabled, retries, following), following (where to look for a
-person or a hand), face_finder and camera_watch (the nearest face in the head camera),
+person or a hand), face_finder, face_cascades, face_choice and camera_watch (a face in the head
+camera, from 24 pixels wide),
 navigator_buttons (Baxter's buttons as face commands).
 """
 

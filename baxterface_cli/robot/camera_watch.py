@@ -13,6 +13,7 @@ import threading
 from typing import Any, Callable, Optional, Tuple
 
 from ..extras import MissingTool
+from .face_choice import DEFAULT_FACE_POLICY
 
 Point = Tuple[float, float]
 
@@ -23,7 +24,9 @@ class CameraWatch:
     `decode` turns what `give` was handed (a ROS message, say) into an
     HxWx3 BGR image; it runs on the worker, off the caller's thread. An
     image that cannot be decoded or looked at is reported through `warn`
-    and skipped. `hfov_deg` is the camera's field of view (None: Baxter's head camera's).
+    and skipped. `hfov_deg` is the camera's field of view (None: Baxter's head camera's,
+    or the focal length the camera says, `lens`); `policy` which face is followed
+    among several (face_choice.FACE_POLICIES).
     """
 
     def __init__(
@@ -33,9 +36,12 @@ class CameraWatch:
         decode: Callable[[Any], Any] = lambda image: image,
         warn: Callable[[str], None] = lambda text: None,
         threaded: bool = True,
+        policy: str = DEFAULT_FACE_POLICY,
     ) -> None:
         self.hand_to = hand_to
         self.hfov_deg = hfov_deg
+        self.policy = policy
+        self.focal: Optional[float] = None  # pixels, once the camera has said it (`lens`)
         self.decode = decode
         self.warn = warn
         self.threaded = threaded
@@ -51,7 +57,9 @@ class CameraWatch:
         from .face_finder import BAXTER_HEAD_CAMERA_HFOV, FaceFollower  # OpenCV only when a face is followed
 
         try:
-            follower = FaceFollower(hfov_deg=self.hfov_deg or BAXTER_HEAD_CAMERA_HFOV)
+            follower = FaceFollower(
+                hfov_deg=self.hfov_deg or BAXTER_HEAD_CAMERA_HFOV, policy=self.policy, focal=self.focal
+            )
         except MissingTool as e:
             return str(e)
         with self._lock:
@@ -61,6 +69,16 @@ class CameraWatch:
             self._worker = threading.Thread(target=self._work, name="baxterface-camera", daemon=True)
             self._worker.start()
         return None
+
+    def lens(self, focal: float) -> None:
+        """The camera's focal length in pixels (its camera_info's), for every image from now on; a
+        field of view given as `hfov_deg` wins over it. Any thread may call it."""
+        if self.hfov_deg is not None:
+            return
+        self.focal = focal
+        follower = self.follower
+        if follower is not None:
+            follower.focal = focal
 
     def stop(self) -> None:
         """Stop looking: images given from now on are dropped."""

@@ -8,8 +8,10 @@ mode's speaker, and reports what the face is doing on `~state` (JSON,
 latched). All work happens in one loop; subscriber callbacks only hand
 messages over. The head camera (`camera` parameter) is subscribed to only
 while a face is followed, and its images are looked at on the camera
-watch's own thread, never on the loop. ROS itself is behind a `Link`
-(link.py): the same node runs on either version.
+watch's own thread, never on the loop. The camera's focal length comes from
+its `camera_info` (beside the image topic) when it publishes one, unless the
+`camera_hfov` parameter gives the field of view. ROS itself is behind a
+`Link` (link.py): the same node runs on either version.
 """
 
 from __future__ import annotations
@@ -36,7 +38,7 @@ from ..speech.recordings import Recordings
 from .connect import open_link
 from .images import image_fields, image_pixels
 from .link import CHATTER, NODE_NAME, QUEUE, STATE, Link
-from .node_settings import NodeSettings, SettingError, theme_layers
+from .node_settings import NodeSettings, SettingError, camera_focal, camera_info_topic, theme_layers
 from .robot_link import WARN_EVERY, connect_robot
 from .speakers import UnknownAudio, default_audio, open_speaker
 
@@ -103,12 +105,15 @@ class FaceNode:
         self.state_pub = link.publisher(STATE, "std_msgs/String", latched=True, queue=1)
         self.saying: Optional[Tuple[str, float]] = None  # (text, when it ends) while the face speaks
         self.camera_topic = settings.camera
-        hfov = settings.camera_hfov
+        hfov, policy = settings.camera_hfov, settings.face_policy
+        # The field of view given wins; without it, the camera says its focal length.
+        self.camera_info_topic = camera_info_topic(settings.camera) if hfov is None else None
         self.camera_sub: Any = None
+        self.camera_info_sub: Any = None
 
         def camera(hand_to):
             warn = lambda text: link.log("warn", text, every=WARN_EVERY)  # noqa: E731
-            return CameraWatch(hand_to, hfov_deg=hfov, decode=image_pixels, warn=warn)
+            return CameraWatch(hand_to, hfov_deg=hfov, decode=image_pixels, warn=warn, policy=policy)
 
         self.robot = connect_robot(
             link, warn=self.log.warn, info=self.log.info, speak=self._speak, camera=camera
@@ -161,6 +166,19 @@ class FaceNode:
     def _image(self, msg: Any) -> None:
         self.robot.heard_image(msg, time.monotonic())  # decoded and looked at on the camera's thread
 
+    def _camera_info(self, msg: Any) -> None:
+        k = msg.K if hasattr(msg, "K") else msg.k  # ROS 1 spells it K, ROS 2 k
+        focal = camera_focal(k, msg.binning_x)
+        if focal is None:
+            self.link.log(
+                "warn",
+                f"{self.camera_info_topic} gives no focal length (K[0] is {k[0] if len(k) else None}); "
+                "following a face takes a field of view of 76 degrees (camera_hfov sets another)",
+                every=WARN_EVERY,
+            )
+        else:
+            self.robot.camera.lens(focal)
+
     def _watch_camera(self) -> None:
         """Subscribe to the camera while a face is followed, and only then: images are heavy."""
         wanted = self.robot.gaze.wants_camera
@@ -168,9 +186,16 @@ class FaceNode:
             self.camera_sub = self.link.subscribe(
                 self.camera_topic, "sensor_msgs/Image", self._image, sensor=True
             )
+            if self.camera_info_topic is not None:
+                self.camera_info_sub = self.link.subscribe(
+                    self.camera_info_topic, "sensor_msgs/CameraInfo", self._camera_info, sensor=True
+                )
         elif not wanted and self.camera_sub is not None:
             self.camera_sub.close()
             self.camera_sub = None
+            if self.camera_info_sub is not None:
+                self.camera_info_sub.close()
+                self.camera_info_sub = None
 
     def _speak(self, effect: Speech) -> None:
         # Timed here, not by the script's status: a take-over restarts the script's clock.

@@ -7,17 +7,18 @@ the parameter, so `baxterface node` can say which one and exit 2.
 
 from __future__ import annotations
 
+import math
 import os
 from dataclasses import dataclass
 from typing import Any, Callable, Optional, Tuple
 
 from ..drawing.theme import ThemeError, resolve
 from ..drawing.theme_manifest import parse_size
+from ..robot.face_choice import DEFAULT_FACE_POLICY, FACE_POLICIES, FACE_POLICY_CHOICES
 from .speakers import AUDIO_CHOICES, DEFAULT_AUDIO, SPEAKERS
 from .wire import DISPLAY_TOPICS
 
 CAMERA_TOPIC = "/cameras/head_camera/image"
-CAMERA_HFOV = 76.0  # degrees: Baxter's head camera, without loading OpenCV's face finder
 
 
 class SettingError(ValueError):
@@ -38,8 +39,9 @@ class NodeSettings:
     display_topic: str = DISPLAY_TOPICS["baxter"]
     audio: str = DEFAULT_AUDIO
     camera: str = CAMERA_TOPIC
-    camera_hfov: float = CAMERA_HFOV
     recordings: Optional[str] = None  # the folder `say file` reads from; None: none is read
+    camera_hfov: Optional[float] = None  # degrees; None: the camera's camera_info, or Baxter's head camera
+    face_policy: str = DEFAULT_FACE_POLICY
 
     @classmethod
     def read(cls, get: Callable[[str, Any], Any], defaults: Optional[NodeSettings] = None) -> NodeSettings:
@@ -55,9 +57,27 @@ class NodeSettings:
             display_topic=_topic(get, "display_topic", d.display_topic),
             audio=_choice(get, "audio", d.audio),
             camera=_topic(get, "camera", d.camera),
-            camera_hfov=_number(get, "camera_hfov", d.camera_hfov, 1.0, 179.0, " degrees"),
             recordings=_folder(get, "recordings"),
+            camera_hfov=_unset_or(_number, get, "camera_hfov", 1.0, 179.0, " degrees"),
+            face_policy=_one_of(get, "face_policy", d.face_policy, FACE_POLICIES, FACE_POLICY_CHOICES),
         )
+
+
+def camera_info_topic(image_topic: str) -> str:
+    """Where a camera publishes its sensor_msgs/CameraInfo: `camera_info` beside its image topic."""
+    folder, _, _ = image_topic.rpartition("/")
+    return f"{folder}/camera_info" if folder or image_topic.startswith("/") else "camera_info"
+
+
+def camera_focal(k: Any, binning_x: Any) -> Optional[float]:
+    """The focal length in pixels of a camera's images, from its CameraInfo's K and binning_x (a
+    region of interest crops the image, which leaves it); None if K has none (not calibrated)."""
+    try:
+        fx = float(k[0])
+        binning = max(1, int(binning_x))
+    except (TypeError, ValueError, IndexError):
+        return None
+    return fx / binning if math.isfinite(fx) and fx > 0.0 else None
 
 
 def theme_layers(settings: NodeSettings) -> Any:
@@ -77,6 +97,21 @@ def _number(get, name: str, default: float, low: float, high: float, unit: str =
     if not low <= number <= high:  # also refuses nan
         raise SettingError(name, f"must be from {low:g} to {high:g}{unit}, not {number:g}")
     return number
+
+
+def _unset_or(read, get, name: str, *limits: Any) -> Any:
+    """None when the parameter is not set (or set to ''), else `read`'s value of it."""
+    value = get(name, None)
+    if value is None or value == "":
+        return None
+    return read(lambda _, default: value, name, None, *limits)
+
+
+def _one_of(get, name: str, default: str, choices: Tuple[str, ...], said: str) -> str:
+    value = str(get(name, default))
+    if value not in choices:
+        raise SettingError(name, f"must be {said}, not {value[:40]!r}")
+    return value
 
 
 def _size(get, name: str, default: str) -> Tuple[int, int]:

@@ -35,10 +35,10 @@ def person_at(sensors, seconds=4.0, distance=1.0, rate=20.0):
     ]
 
 
-def rehearse(script: str, source, seconds: float):
+def rehearse(script: str, source, seconds: float, **options):
     """The (t, face state, status note) of each frame of `script` played against `source`."""
     timeline = compile_script(parse(script))
-    rehearsal = Rehearsal(open_source(source))
+    rehearsal = Rehearsal(open_source(source), **options)
     frames = []
     for i in range(int(seconds * FPS)):
         t = i / FPS
@@ -202,6 +202,40 @@ def test_a_face_that_leaves_a_video_is_let_go(tmp_path):
     assert seen and min(seen) < 1.0  # found within a second
     gone = [t for t, _, note in frames if t > stream.left_at and note == "no face seen"]
     assert gone and min(gone) < stream.left_at + 1.0  # let go within a second of leaving
+
+
+def test_the_face_policy_chooses_which_of_three_faces_in_a_video_is_followed(tmp_path):
+    cv2 = needs("cv2")
+    needs("skimage")
+    from far_streams import crowd
+
+    stream = crowd()  # three faces: off the middle to the right, large on the left, central
+    video = str(tmp_path / "crowd.avi")
+    writer = cv2.VideoWriter(video, cv2.VideoWriter_fourcc(*"MJPG"), stream.fps, (640, 400))
+    for frame in stream.frames():
+        writer.write(frame.image)
+    writer.release()
+    script = f"follow face; wait {stream.seconds}s"
+    eyes = {
+        policy: rehearse(script, video, stream.seconds, face_policy=policy)[-1][1].eye_x
+        for policy in ("nearest", "central", "longest")
+    }
+    # The image's left is the robot's left: positive eye x.
+    assert eyes["nearest"] > 15 and abs(eyes["central"]) < 3 and eyes["longest"] < -15, eyes
+
+
+def test_a_face_policy_that_does_not_exist_or_without_a_file_is_a_usage_error(tmp_path):
+    out = str(tmp_path / "x.png")
+    picture = str(ROOT / "scripts_examples" / "someone.jpg")
+    wrong = baxterface(
+        "render", "-e", "follow face", "--follow-from", picture, "--face-policy", "tallest", "--out", out
+    )
+    said = " ".join(word for word in wrong.err.split() if word not in "│╭╮╰╯─")
+    assert wrong.code == 2 and "--face-policy: must be nearest, central or longest, not 'tallest'" in said
+    alone = baxterface("render", "-e", "follow face", "--face-policy", "central", "--out", out)
+    said = " ".join(word for word in alone.err.split() if word not in "│╭╮╰╯─")
+    assert alone.code == 2 and "--face-policy: chooses among the faces in --follow-from FILE" in said
+    assert not (tmp_path / "x.png").exists()
 
 
 def test_a_file_that_is_neither_trace_video_nor_picture_is_one_line(tmp_path):

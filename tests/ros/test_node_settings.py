@@ -2,7 +2,13 @@
 
 import pytest
 
-from baxterface_cli.ros.node_settings import NodeSettings, SettingError, theme_layers
+from baxterface_cli.ros.node_settings import (
+    NodeSettings,
+    SettingError,
+    camera_focal,
+    camera_info_topic,
+    theme_layers,
+)
 
 
 def read(**given):
@@ -13,11 +19,15 @@ def test_nothing_given_is_the_documented_defaults():
     s = read()
     assert (s.fps, s.size, s.theme, s.idle, s.audio) == (30.0, (1024, 600), None, True, "soundplay")
     assert s.display_topic == "/robot/xdisplay" and s.camera == "/cameras/head_camera/image"
+    # No field of view: the camera's camera_info says it, or else Baxter's head camera's is taken.
+    assert s.camera_hfov is None and s.face_policy == "nearest"
 
 
 def test_values_as_rospy_and_launch_files_give_them():
-    s = read(fps="20", size="1920x1200", idle="false", selftest=True, camera_hfov=60)
+    s = read(fps="20", size="1920x1200", idle="false", selftest=True, camera_hfov=60, face_policy="central")
     assert (s.fps, s.size, s.idle, s.selftest, s.camera_hfov) == (20.0, (1920, 1200), False, True, 60.0)
+    assert s.face_policy == "central"
+    assert read(camera_hfov="").camera_hfov is None  # the launch file's way of leaving it unset
 
 
 @pytest.mark.parametrize(
@@ -30,6 +40,8 @@ def test_values_as_rospy_and_launch_files_give_them():
         ({"audio": "loud"}, "~audio must be soundplay, local or none, not 'loud'"),
         ({"idle": "maybe"}, "~idle must be true or false, not 'maybe'"),
         ({"camera_hfov": 200}, "~camera_hfov must be from 1 to 179 degrees, not 200"),
+        ({"camera_hfov": "wide"}, "~camera_hfov must be a number, not 'wide'"),
+        ({"face_policy": "tallest"}, "~face_policy must be nearest, central or longest, not 'tallest'"),
         ({"display_topic": "a b"}, "~display_topic must be a topic name, not 'a b'"),
         ({"theme": 3}, "~theme must be text, not 3"),
     ],
@@ -53,3 +65,13 @@ def test_recordings_is_a_folder_made_absolute_or_none(tmp_path, monkeypatch):
     assert read(recordings="sounds").recordings == str(tmp_path / "sounds")
     with pytest.raises(SettingError, match=r"^~recordings must be a folder, not 'nowhere'$"):
         read(recordings="nowhere")
+
+
+def test_binning_divides_the_focal_length_and_an_uncalibrated_camera_gives_none():
+    assert camera_focal([410.0, 0, 640, 0, 410.0, 400, 0, 0, 1], 0) == 410.0
+    assert camera_focal([410.0, 0, 640, 0, 410.0, 400, 0, 0, 1], 2) == 205.0
+    assert camera_focal([0.0] * 9, 0) is None and camera_focal([], 0) is None
+    assert camera_focal([float("nan")] * 9, 1) is None
+    assert camera_info_topic("/cameras/head_camera/image") == "/cameras/head_camera/camera_info"
+    assert camera_info_topic("image_raw") == "camera_info"
+    assert camera_info_topic("/image") == "/camera_info"

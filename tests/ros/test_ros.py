@@ -734,6 +734,49 @@ def test_a_face_in_the_head_camera_draws_the_eyes_to_it_in_every_encoding(ros, n
     camera.unregister()
 
 
+def camera_info(fx, binning=1):
+    """A sensor_msgs/CameraInfo as Baxter's head camera publishes it, with focal length `fx`, binned."""
+    from sensor_msgs.msg import CameraInfo
+
+    return CameraInfo(width=1280, height=800, K=[fx, 0, 640, 0, fx, 400, 0, 0, 1], binning_x=binning)
+
+
+def test_the_focal_length_comes_from_the_cameras_camera_info_and_camera_hfov_overrides_it(ros):
+    import rospy
+    from sensor_msgs.msg import CameraInfo, Image
+    from std_msgs.msg import String
+
+    # A face 160 px left of the middle: at Baxter's focal length (410 px) 21 degrees to the robot's
+    # left; through the camera this camera_info describes, 410 px binned by 2, so 205 px (a wide
+    # angle), atan(160 / 205) = 38 degrees.
+    image = camera_image((160, 200))
+    camera = rospy.Publisher("/cameras/head_camera/image", Image, queue_size=1)
+    info = rospy.Publisher("/cameras/head_camera/camera_info", CameraInfo, queue_size=1)
+    for args, low, high in (((), 35.0, 41.0), (("_camera_hfov:=76",), 18.0, 24.0)):
+        state = Topic("/baxter_face/state", String)
+        proc = start_node(ros, *args)
+        try:
+            state.wait_for(timeout=30)
+            rostopic_pub(ros, "follow face")
+            report(state, test=lambda r: r["following"] == "face")
+            deadline = time.monotonic() + 20
+            while True:  # both at the camera's rates, as a camera driver publishes them
+                info.publish(camera_info(410.0, binning=2))
+                camera.publish(image)
+                latest = json.loads(state.messages[-1][1].data)
+                if latest["follow_seen"] and low < latest["eye_x"] < high:
+                    break
+                assert time.monotonic() < deadline, (args, latest)
+                time.sleep(1 / 30)
+        finally:
+            state.close()
+            proc.send_signal(signal.SIGTERM)
+            proc.wait(timeout=20)
+            forget_parameters(ros)
+    camera.unregister()
+    info.unregister()
+
+
 def test_following_a_face_dynamically_turns_the_head_toward_it(ros, node):
     import rospy
     from sensor_msgs.msg import Image

@@ -32,6 +32,19 @@ FPS = 30.0
 HFOV = 76.0  # Baxter's head camera at 640x400
 PIXELS_PER_ELEVATION = 76.394
 DEGREES_PER_RADIAN = 57.294
+FAR_FACES = (0, 15, 21, 22, 47, 82)  # faces of scikit-image's LFW subset
+# Where OpenCV's cascades put each of those faces on its head (_head), on average over pictures
+# 80 to 120 pixels wide on two backgrounds: its width, and its centre's offset right and down, in
+# widths of the face as pasted. The streams' truth is the cascades' face, as for the astronaut.
+FAR_FACE_BOXES = {
+    0: (1.056, -0.008, -0.022),
+    15: (1.100, -0.022, 0.008),
+    21: (0.922, -0.131, -0.027),
+    22: (1.143, -0.066, 0.021),
+    47: (0.991, -0.133, -0.002),
+    82: (1.038, -0.074, -0.046),
+}
+NOT_FACES = (106, 122, 138, 147, 153, 181)  # pictures of it that are not faces
 
 
 def eye_truth(u: float, v: float, width: int = WIDTH, height: int = HEIGHT, hfov: float = HFOV):
@@ -94,18 +107,59 @@ def sprites() -> Dict[str, Sprite]:
     out["astronaut"] = _sprite(head, alpha, cx, cy, 95.0)
     mirror = np.ascontiguousarray(head[:, ::-1])
     out["mirror"] = _sprite(mirror, alpha[:, ::-1].copy(), head.shape[1] - 1 - cx, cy, 95.0)
-    # A small real face (LFW, 25x25 grey, tinted): the cascades' box is about the whole photo.
-    grey = cv2.resize(
-        (data.lfw_subset()[7] * 255).astype(np.uint8), (100, 100), interpolation=cv2.INTER_CUBIC
-    )
-    tinted = np.clip(grey[:, :, None] * np.array([0.85, 0.95, 1.1]), 0, 255)
-    out["lfw7"] = _sprite(tinted, _soft_ellipse(100, 100, 50, 50, 52, 60, 0.15), 50.0, 46.0, 92.0)
+    # Small real faces (LFW, 25x25 grey, tinted): the cascades' box is about the whole photo. lfw7,
+    # and six of its pictures that are not faces (seed 26) as distractors; six faces drawn at
+    # random (seed 25) for the far streams, each given a head (see _head).
+    for index in (7, *NOT_FACES):
+        tinted, alpha = _lfw(index)
+        out[f"lfw{index}"] = _sprite(tinted, alpha, 50.0, 46.0, 92.0)
+    for k, index in enumerate(FAR_FACES):
+        head = _head(*_lfw(index), HAIR[k % len(HAIR)])
+        width, right, down = FAR_FACE_BOXES[index]
+        out[f"lfw{index}"] = head._replace(
+            cx=head.cx + right * head.size, cy=head.cy + down * head.size, size=head.size * width
+        )
     # Distractors, as posters with soft corners: the cat and two pages of text.
     cat = data.chelsea()[:, :, ::-1]
     out["cat"] = _poster(cat)
     for name in ("text", "page"):
         out[name] = _poster(cv2.cvtColor(getattr(data, name)(), cv2.COLOR_GRAY2BGR))
     return out
+
+
+def _lfw(index: int) -> Tuple[np.ndarray, np.ndarray]:
+    """LFW's picture `index`, 100 pixels square, tinted, and a soft oval mask that leaves its face."""
+    grey = cv2.resize(
+        (data.lfw_subset()[index] * 255).astype(np.uint8), (100, 100), interpolation=cv2.INTER_CUBIC
+    )
+    tinted = np.clip(grey[:, :, None] * np.array([0.85, 0.95, 1.1]), 0, 255).astype(np.float32)
+    return tinted, _soft_ellipse(100, 100, 50, 50, 52, 60, 0.15)
+
+
+HAIR = ((40, 50, 62), (30, 32, 36), (70, 95, 120), (55, 60, 70))  # BGR: browns, black, fair, grey
+
+
+def _head(face: np.ndarray, mask: np.ndarray, hair: Tuple[int, int, int]) -> Sprite:
+    """An LFW face (cut close: brows to chin) on a head: hair around and above it, a neck below, as a
+    person has, so its edges meet a head as a real face's do, not the clutter behind it."""
+    h, w = 190, 150
+    x0, y0 = 25, 45  # where the 100x100 face goes
+    colour = np.zeros((h, w, 3), np.float32)
+    alpha = np.zeros((h, w), np.float32)
+    skin = face[30:70, 30:70].reshape(-1, 3).mean(axis=0)
+    for paint, cover in (
+        (np.array(hair, np.float32), _soft_ellipse(h, w, 75, 76, 64, 72, 0.12)),
+        (skin * 0.85, _soft_ellipse(h, w, 75, 172, 26, 34, 0.25)),  # the neck
+    ):
+        colour = colour * (1.0 - cover[:, :, None]) + paint * cover[:, :, None]
+        alpha = alpha + cover * (1.0 - alpha)
+    over = np.zeros((h, w), np.float32)
+    over[y0 : y0 + 100, x0 : x0 + 100] = mask
+    placed = np.zeros((h, w, 3), np.float32)
+    placed[y0 : y0 + 100, x0 : x0 + 100] = face
+    colour = colour * (1.0 - over[:, :, None]) + placed * over[:, :, None]
+    alpha = alpha + over * (1.0 - alpha)
+    return Sprite(colour * alpha[:, :, None], alpha, x0 + 50.0, y0 + 46.0, 92.0)
 
 
 def _poster(bgr: np.ndarray) -> Sprite:
@@ -120,7 +174,7 @@ def _poster(bgr: np.ndarray) -> Sprite:
 @functools.lru_cache(maxsize=None)
 def background(name: str) -> np.ndarray:
     """A real scene from scikit-image, fitted to 640x400 BGR."""
-    picture = getattr(data, name)()
+    picture = data.stereo_motorcycle()[0] if name == "motorcycle" else getattr(data, name)()
     picture = cv2.cvtColor(picture, cv2.COLOR_GRAY2BGR) if picture.ndim == 2 else picture[:, :, ::-1]
     h, w = picture.shape[:2]
     scale = max(WIDTH / w, HEIGHT / h)
@@ -139,6 +193,14 @@ def _noise(seed: int) -> List[np.ndarray]:
 def paste(frame: np.ndarray, sprite: Sprite, u: float, v: float, width: float, angle: float) -> None:
     """Paste `sprite` into `frame` (float32) with its centre at (u, v), `width` wide, tilted `angle`."""
     scale = width / sprite.size
+    if scale < 0.5:  # shrunk as a lens would, averaging, not sampled: a far face keeps its features
+        bgr = cv2.resize(sprite.bgr, None, fx=scale, fy=scale, interpolation=cv2.INTER_AREA)
+        alpha = cv2.resize(sprite.alpha, None, fx=scale, fy=scale, interpolation=cv2.INTER_AREA)
+        sx, sy = bgr.shape[1] / sprite.bgr.shape[1], bgr.shape[0] / sprite.bgr.shape[0]
+        sprite = Sprite(
+            bgr, alpha, (sprite.cx + 0.5) * sx - 0.5, (sprite.cy + 0.5) * sy - 0.5, sprite.size * sx
+        )
+        scale = width / sprite.size
     m = cv2.getRotationMatrix2D((sprite.cx, sprite.cy), angle, scale)
     m[:, 2] += (u - sprite.cx, v - sprite.cy)
     h, w = sprite.alpha.shape
@@ -169,6 +231,7 @@ class Stream:
         seed: int = 0,
         follow: Union[None, int, Callable[[float], int]] = 0,
         left_at: Optional[float] = None,
+        switch: Optional[Tuple[float, float]] = None,
     ) -> None:
         self.name = name
         self.seconds = seconds
@@ -177,6 +240,9 @@ class Stream:
         self.seed = seed
         self.follow = follow  # which placed sprite is the face to follow (None: none; or a function of t)
         self.left_at = left_at  # when the face to follow is no longer fully in view
+        # When `follow` changes its face: the eyes should move within this window, in which
+        # neither face is the truth.
+        self.switch = switch
         self.fps = FPS
 
     def __len__(self) -> int:
@@ -184,7 +250,7 @@ class Stream:
 
     def truth(self, t: float) -> Tuple[Optional[Tuple[float, float]], float]:
         """The followed face's centre in the image, when it is fully in view, and its width."""
-        if self.follow is None:
+        if self.follow is None or (self.switch and self.switch[0] <= t < self.switch[1]):
             return None, 0.0
         face = self.scene(t)[1][self.follow(t) if callable(self.follow) else self.follow]
         half = face.width / 2.0
@@ -374,7 +440,7 @@ def combined() -> Stream:
 
 def nearer() -> Stream:
     """A face 70 px wide, then at 1.5 s a nearer one (120 px, 2.9 times the area) steps in: the
-    eyes should go to it (the truth switches at 2.5 s) and stay there."""
+    eyes should go to it within half a second (the truth switches at 2.0 s) and stay there."""
 
     def scene(t):
         first = Placed("astronaut", 200 + 20 * math.sin(t), 200 + 10 * math.sin(1.3 * t), 70)
@@ -382,7 +448,9 @@ def nearer() -> Stream:
             return 1.0, [first]
         return 1.0, [first, Placed("mirror", 450 - 15 * math.sin(0.8 * t), 190, 120)]
 
-    return Stream("nearer face", 4.0, scene, "rocket", seed=11, follow=lambda t: 0 if t < 2.5 else 1)
+    return Stream(
+        "nearer face", 4.0, scene, "rocket", seed=11, follow=lambda t: 0 if t < 2.0 else 1, switch=(1.5, 2.0)
+    )
 
 
 def centred() -> Stream:
