@@ -35,11 +35,11 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests" / "suppo
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import cv2  # noqa: E402
-import far_streams as far  # noqa: E402
 import numpy as np  # noqa: E402
 from face_follower_before import FaceFollower as FollowerBefore  # noqa: E402
 
 import face_streams as fs  # noqa: E402
+import far_streams as far  # noqa: E402
 from baxterface_cli.robot.face_finder import FaceFollower, eye_target  # noqa: E402
 
 Target = Optional[Tuple[float, float]]

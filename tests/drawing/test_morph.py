@@ -138,7 +138,8 @@ def test_each_eye_grows_and_shrinks_on_its_own_and_its_lids_still_shut_it(layers
     white = np.all(shut[60:460] > 235, axis=-1)  # the whites' colour: none shows through shut lids
     assert white.sum() == 0
     renderer = Renderer(layers)
-    for i, (left, right) in enumerate([(1.0, 1.0), (1.1, 0.9), (1.2, 0.8), (1.2, 0.8), (0.9, 1.15), (1.0, 1.0)]):
+    sizes = [(1.0, 1.0), (1.1, 0.9), (1.2, 0.8), (1.2, 0.8), (0.9, 1.15), (1.0, 1.0)]
+    for i, (left, right) in enumerate(sizes):
         e = happy._replace(eye_left=left, eye_right=right, lower_lid_left=0.1 * i)
         state = FaceState(eye_x=7.0 * i, eye_y=-3.0 * i, eyelids=1.0 - 0.15 * (i % 3), expression=e)
         assert np.array_equal(renderer.render(state), compose(layers, state)), (left, right)
