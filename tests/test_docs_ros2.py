@@ -6,11 +6,15 @@ own answers the commands that need one.
 
 from __future__ import annotations
 
+import contextlib
 import json
+import queue
 import shlex
 import signal
 import subprocess
 import sys
+import threading
+import time
 
 import pytest
 from test_docs import console_examples, doc_env, matches
@@ -88,12 +92,21 @@ def test_link_examples_hear_what_the_docs_say(docs_world, example, tmp_path):
     listener = subprocess.Popen(
         [sys.executable, str(program)], cwd=str(tmp_path), env=env, stdout=subprocess.PIPE, text=True
     )
+    lines: queue.Queue = queue.Queue()
+    threading.Thread(target=lambda: [lines.put(line) for line in listener.stdout], daemon=True).start()
     try:
         chatter = link.publisher("/display_chatter", "std_msgs/String")
-        while chatter.listeners() == 0:
-            assert listener.poll() is None
-        chatter.publish(data="happy")  # what the doc says `baxterface send --ros 2 happy` does
-        assert listener.stdout.readline().strip() == "command: happy"
+        deadline = time.monotonic() + 60
+        heard = None
+        while heard is None:
+            assert listener.poll() is None and time.monotonic() < deadline, "the example heard nothing"
+            if chatter.listeners():
+                # What the doc says `baxterface send --ros 2 happy` does; again until heard, for
+                # DDS may still be joining the two ends when the first goes.
+                chatter.publish(data="happy")
+            with contextlib.suppress(queue.Empty):
+                heard = lines.get(timeout=0.5)
+        assert heard.strip() == "command: happy"
     finally:
         listener.send_signal(signal.SIGINT)
         listener.communicate(timeout=30)

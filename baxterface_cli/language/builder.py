@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import math
 import re
+import sys
 import threading
 from functools import lru_cache
 from typing import Any, Callable, Dict, List, Optional, Tuple
@@ -26,6 +27,7 @@ from ..core.tables import (
     UNITS,
     FollowTarget,
 )
+from ..core.user_cache import made_cache_folder
 from ..core.voices import RATES, known_voice, voice_names
 from ..resources import resource
 from . import syntax_tree as n
@@ -41,7 +43,17 @@ _LEGACY_NUMBER = re.compile(r"_([-+]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+))")
 @lru_cache(maxsize=1)
 def grammar() -> Lark:
     """The one grammar, built once, giving lark trees (for tools and tests)."""
-    return Lark(_grammar_text(), parser="lalr", maybe_placeholders=False)
+    return _lark()
+
+
+def _lark(**options: Any) -> Lark:
+    """The grammar's LALR parser. Its tables take a seventh of a second to build, most of what a
+    `check` takes, and a few milliseconds to load: lark keeps them in the user's cache folder
+    (with the grammar's and lark's fingerprint, and builds them anew when those change)."""
+    folder = made_cache_folder("grammar")
+    name = f"face-{sys.version_info[0]}.{sys.version_info[1]}.lark" if folder is not None else ""
+    cache: Any = str(folder / name) if folder is not None else False
+    return Lark(_grammar_text(), parser="lalr", maybe_placeholders=False, cache=cache, **options)
 
 
 @lru_cache(maxsize=1)
@@ -59,7 +71,7 @@ class _Parser:
 
     def __init__(self) -> None:
         self.builder = _Builder()
-        self.lark = Lark(_grammar_text(), parser="lalr", maybe_placeholders=False, transformer=self.builder)
+        self.lark = _lark(transformer=self.builder)
 
 
 _UNIT_WORDS = frozenset(unit for units in UNITS.values() for unit in units if unit)

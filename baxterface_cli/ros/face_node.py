@@ -120,7 +120,7 @@ class FaceNode:
         )
 
         self.wake = threading.Event()
-        self.stop = threading.Event()
+        self.stopping = False  # set by SIGINT and SIGTERM
         self.intake = Intake(self.live, time.monotonic, ready=self.wake.set)
         self.last_key: Any = None
         self.last_frame_at = -math.inf
@@ -216,13 +216,16 @@ class FaceNode:
         sys.setswitchinterval(SWITCH_INTERVAL)
         young, middle, _ = gc.get_threshold()
         gc.set_threshold(young, middle, FULL_COLLECTION_EVERY)
+        # A plain flag: a handler runs between any two steps of the loop, inside `wake.wait()`
+        # too, where setting an Event would wait for the lock that very wait holds. The loop
+        # looks at the flag at least once a tick.
         for signum in (signal.SIGINT, signal.SIGTERM):
-            signal.signal(signum, lambda *_: (self.stop.set(), self.wake.set()))
+            signal.signal(signum, lambda *_: setattr(self, "stopping", True))
         self.link.log("info", f"baxterface face node: listening on {self.link.resolve(CHATTER)}")
         self.link.stay_connected(self.log.info)
         period = 1.0 / self.fps
         next_tick = time.monotonic()
-        while not self.stop.is_set() and self.link.ok():
+        while not self.stopping and self.link.ok():
             now = time.monotonic()
             took = self._take_commands(now)
             for cue in self.live.due(now):

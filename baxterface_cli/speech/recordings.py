@@ -30,6 +30,7 @@ from typing import Any, Callable, Dict, List, NamedTuple, Optional, Tuple, Union
 
 import numpy as np
 
+from ..core import user_cache
 from ..core.partial_files import write_atomic
 from ..language import syntax_tree as n
 from ..language.checker import walk
@@ -79,9 +80,7 @@ class Recital(NamedTuple):
 
 def cache_folder() -> Path:
     """Where analyses are kept: `$XDG_CACHE_HOME/baxterface/lipsync`, or `~/.cache/...`."""
-    base = os.environ.get("XDG_CACHE_HOME", "")
-    root = Path(base) if base and os.path.isabs(base) else Path.home() / ".cache"
-    return root / "baxterface" / "lipsync"
+    return user_cache.cache_folder("lipsync")
 
 
 class Recordings:
