@@ -47,12 +47,10 @@ def grammar() -> Lark:
 
 
 def _lark(**options: Any) -> Lark:
-    """The grammar's LALR parser. Its tables take a seventh of a second to build, most of what a
-    `check` takes, and a few milliseconds to load: lark keeps them in the user's cache folder
-    (with the grammar's and lark's fingerprint, and builds them anew when those change)."""
+    """The grammar's LALR parser; lark keeps its tables in the user's cache folder, fingerprinted
+    (building them takes a seventh of a second, most of a `check`; loading them, milliseconds)."""
     folder = made_cache_folder("grammar")
-    name = f"face-{sys.version_info[0]}.{sys.version_info[1]}.lark" if folder is not None else ""
-    cache: Any = str(folder / name) if folder is not None else False
+    cache = str(folder / f"face-{sys.version_info[0]}.{sys.version_info[1]}.lark") if folder else False
     return Lark(_grammar_text(), parser="lalr", maybe_placeholders=False, cache=cache, **options)
 
 
