@@ -111,12 +111,12 @@ test-python: lint
 	$(BIN)/python -m pytest -n $(JOBS) --dist loadgroup -m "not ros $(BESIDE)"
 
 test-python38: venv38
-	$(VENV38)/bin/python -m pytest -n $(JOBS) --dist loadgroup -m "not slow and not ros $(BESIDE)" \
+	$(VENV38)/bin/python -m pytest -n $(JOBS) --dist loadgroup -m "not slow and not ros and not one_python $(BESIDE)" \
 		-p no:cacheprovider
 
 test-realtime: venv venv38
 	$(BIN)/python -m pytest -m "realtime and not ros" -p no:cacheprovider
-	$(VENV38)/bin/python -m pytest -m "realtime and not slow and not ros" -p no:cacheprovider
+	$(VENV38)/bin/python -m pytest -m "realtime and not slow and not ros and not one_python" -p no:cacheprovider
 
 test-ros: venv-ros
 	$(VENV_ROS)/bin/python -m pytest -n $(JOBS) -m ros -p no:cacheprovider -W ignore::DeprecationWarning

@@ -17,7 +17,7 @@ from baxterface_cli.language.vocabulary import BARE_WORDS, LEGACY_USAGE
 from conftest import free_port
 from doc_blocks import DOCS, fenced_blocks, python_examples
 
-pytestmark = pytest.mark.language
+pytestmark = pytest.mark.one_python  # what the docs say is the same under every Python
 
 ROOT = Path(__file__).resolve().parent.parent
 DOC = (ROOT / "docs" / "language.md").read_text(encoding="utf-8")

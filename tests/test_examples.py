@@ -11,7 +11,7 @@ from baxterface_cli.language import syntax_tree as n
 from baxterface_cli.language.checker import measure, walk
 from conftest import baxterface
 
-pytestmark = pytest.mark.language
+pytestmark = pytest.mark.one_python  # what the examples show is the same under every Python
 
 EXAMPLES = sorted((Path(__file__).resolve().parent.parent / "scripts_examples").glob("*.face"))
 

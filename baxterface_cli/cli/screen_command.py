@@ -67,6 +67,7 @@ def screen(
     from ..studio.server import bind, serve, url_for
 
     renderer = Renderer(fitted_theme(theme, size, "screen"))
+    renderer.prepare_in_background()
     try:
         face = ScreenFace(script, seed, idle)
     except MissingTool as e:  # `say` without a speech engine

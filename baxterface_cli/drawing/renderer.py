@@ -258,10 +258,11 @@ class Renderer:
     def size(self) -> Tuple[int, int]:
         return self.layers.size
 
-    def prepare_in_background(self) -> None:
-        """Make, off this thread, what the drawn face's first skin between two named ones and
-        its first eye of another size need (palettes, a second or two): a live face's first
-        mood or `eyes 1.1` shows at once."""
+    def prepare_in_background(self, after: float = 5.0) -> None:
+        """Make, off this thread and `after` seconds from now, what the drawn face's first skin
+        between two named ones and its first eye of another size need (palettes, two seconds
+        of work): a live face's first mood or `eyes 1.1` then shows at once. Later rather than
+        at once, so that starting a face stays quick; until then, the first asks for them."""
         drawn = self.layers.drawn
         if drawn is not None:
 
@@ -269,7 +270,9 @@ class Renderer:
                 drawn.palette()
                 drawn.eye_sizes.prepare()
 
-            threading.Thread(target=prepare, name="baxterface-palette", daemon=True).start()
+            timer = threading.Timer(after, prepare)
+            timer.name, timer.daemon = "baxterface-palette", True
+            timer.start()
 
     def frame_key(self, state: FaceState) -> Any:
         """A value equal for two states exactly when their frames are the same: a sink that

@@ -16,7 +16,7 @@ from browser import chromium, errors_in_console, wait_for
 from conftest import free_port
 from studio_server import running_screen
 
-pytestmark = pytest.mark.xdist_group("screen_browser")
+pytestmark = [pytest.mark.xdist_group("screen_browser"), pytest.mark.one_python]
 TABLET = (1280, 800)  # a landscape tablet's window: 16:10, where the face is 1024x600 (about 16:9.4)
 
 # The face shown as a number the page can compare: a weighted sum of its pixels.

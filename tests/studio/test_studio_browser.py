@@ -11,6 +11,10 @@ import pytest
 from browser import chromium, errors_in_console, wait_for
 from studio_server import baxterface, running_studio
 
+# The page's own scripts, in a browser: the same whichever Python serves them (the servers are tested
+# under every Python by tests/studio/test_studio.py).
+pytestmark = pytest.mark.one_python
+
 # The preview as a number the page can compare: the sum of a few rows of its pixels.
 PREVIEW_PIXELS = """
 const img = document.getElementById('preview');
