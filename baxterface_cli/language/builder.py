@@ -274,17 +274,6 @@ class _Builder(ExpressionRules, Transformer):
             return n.Skin(self._skin(index), pos=self._pos(at))
         return self._adjust("skin", children)
 
-    def pupils(self, children: List[Any]) -> n.Adjust:
-        return self._sized("pupils", children)
-
-    def eyes(self, children: List[Any]) -> n.Adjust:
-        return self._sized("eyes", children)
-
-    def _sized(self, part: str, children: List[Any]) -> n.Adjust:
-        at, *rest = children
-        side = rest.pop(0) if not isinstance(rest[0], Token) else ""
-        return self._adjust(part, [at, None, *rest], side)
-
     def _skin(self, token: Token) -> int:
         return self._whole(token, "index", "a skin", min(SKINS), max(SKINS))
 

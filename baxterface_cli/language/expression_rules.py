@@ -47,6 +47,18 @@ class ExpressionRules:
             self._error(at, f"{part} {control} takes no side: it is one number for the whole face")
         return n.Adjust(part, control, value or 0.0, side, rest[0] if rest else n.Timing(), pos=self._pos(at))
 
+    def pupils(self, children: List[Any]) -> n.Adjust:
+        return self._sized("pupils", children)
+
+    def eyes(self, children: List[Any]) -> n.Adjust:
+        return self._sized("eyes", children)
+
+    def _sized(self, part: str, children: List[Any]) -> n.Adjust:
+        """`pupils 1.3`, `eyes left 0.9 in 1s`: a size, of both or one side."""
+        at, *rest = children
+        side = rest.pop(0) if not isinstance(rest[0], Token) else ""
+        return self._adjust(part, [at, None, *rest], side)
+
     def side(self, children: List[Token]) -> str:
         return str(children[0]).lower()
 
