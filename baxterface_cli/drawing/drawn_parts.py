@@ -35,6 +35,7 @@ from .artwork import (
 from .compositing import Rect, Sprite, alike_rows, div255, sprite_from_rgba
 from .eye_sizes import LARGEST, EyeSizes, patched
 from .mouth_drawing import draw_mouth_numbers, mouth_window
+from .palette_store import kept_palette
 from .skin_mixing import TINTS, SkinPalette, mixed_colour, skin_weights
 from .vector_shapes import Canvas
 
@@ -295,9 +296,12 @@ class DrawnParts:
         """The named skins as a palette, made when a skin between them is first asked for."""
         with self._making_palette:  # made once, whichever thread asks first
             if self._palette is None:
-                plain = [self._plain(i) for i in range(TINTS)]
-                cheeky = [self.skins[i] for i in range(TINTS + 1)]
-                self._palette = SkinPalette.of(plain, cheeky) or False
+
+                def make() -> Optional[SkinPalette]:
+                    plain = [self._plain(i) for i in range(TINTS)]
+                    return SkinPalette.of(plain, [self.skins[i] for i in range(TINTS + 1)])
+
+                self._palette = kept_palette("skin", self.size, make) or False
         return self._palette or None
 
     def _plain(self, index: int) -> Sprite:

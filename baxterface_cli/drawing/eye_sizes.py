@@ -13,12 +13,13 @@ from __future__ import annotations
 
 import threading
 from collections import OrderedDict
-from typing import Any, Callable, Dict, List, Tuple
+from typing import Any, Callable, Dict, List, Optional, Tuple
 
 import numpy as np
 
 from .artwork import INK, SKIN_COLORS, draw_background, draw_skin, socket_hole, socket_ring, socket_window
 from .compositing import Rect, Sprite, sprite_from_rgba
+from .palette_store import kept_palette
 from .skin_mixing import TINTS, SkinPalette
 from .vector_shapes import Canvas
 
@@ -108,10 +109,12 @@ class EyeSizes:
             assert sprite is not None and sprite.rgb_a.shape[:2] == rgba.shape[:2]  # opaque
             return sprite
 
-        plain = [part(i, False) for i in range(TINTS)]
-        cheeky = [part(i, True) for i in range(len(SKIN_COLORS))]
-        palette = SkinPalette.of(plain, cheeky)
-        assert palette is not None  # one outline: no sockets at all
+        def make() -> Optional[SkinPalette]:
+            plain = [part(i, False) for i in range(TINTS)]
+            return SkinPalette.of(plain, [part(i, True) for i in range(len(SKIN_COLORS))])
+
+        palette = kept_palette(f"eye{index}", self.size, make)
+        assert palette is not None and (palette.x, palette.y) == rect[:2]  # one outline: no sockets
         return rect, palette
 
     def prepare(self) -> None:

@@ -260,9 +260,10 @@ class Renderer:
 
     def prepare_in_background(self, after: float = 5.0) -> None:
         """Make, off this thread and `after` seconds from now, what the drawn face's first skin
-        between two named ones and its first eye of another size need (palettes, two seconds
-        of work): a live face's first mood or `eyes 1.1` then shows at once. Later rather than
-        at once, so that starting a face stays quick; until then, the first asks for them."""
+        between two named ones and its first eye of another size need (palettes: two seconds
+        of work the first time, then loaded from the user's cache, palette_store.py): a live
+        face's first mood or `eyes 1.1` then shows at once. Later rather than at once, so that
+        starting a face stays quick; until then, the first asks for them."""
         drawn = self.layers.drawn
         if drawn is not None:
 

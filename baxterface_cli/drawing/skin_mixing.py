@@ -15,7 +15,7 @@ pixel, so the palette's skin and the plain per-pixel mix are the same to the las
 from __future__ import annotations
 
 import math
-from typing import List, Optional, Sequence, Tuple
+from typing import Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -77,6 +77,39 @@ class SkinPalette:
             if not np.array_equal(s.inv, first.inv):
                 return None
         return cls(plain, cheeky)
+
+    def arrays(self) -> Dict[str, np.ndarray]:
+        """The palette as named arrays, what `from_arrays` takes back (palette_store.py)."""
+        return {
+            "origin": np.array([self.x, self.y], np.int64),
+            "inv": self.inv,
+            "index": self.index,
+            "plain": np.stack(self._plain),
+            "cheeky": np.stack(self._cheeky),
+        }
+
+    @classmethod
+    def from_arrays(cls, arrays: Dict[str, np.ndarray]) -> SkinPalette:
+        """A palette from `arrays()`; ValueError where they do not make one."""
+        index, inv, plain, cheeky = arrays["index"], arrays["inv"], arrays["plain"], arrays["cheeky"]
+        rows = plain.shape[1] if plain.ndim == 3 else 0
+        if not (
+            index.ndim == 2
+            and index.dtype == np.int32
+            and inv.shape[:2] == index.shape
+            and plain.shape == (TINTS, rows, 3)
+            and cheeky.shape == (TINTS + 1, rows, 3)
+            and plain.dtype == cheeky.dtype
+            and rows > 0
+            and index.min() >= 0
+            and index.max() < rows
+        ):
+            raise ValueError("not a skin palette")
+        palette = cls.__new__(cls)
+        palette.x, palette.y = (int(n) for n in arrays["origin"])
+        palette.inv, palette.index, palette.shape = inv, index, index.shape
+        palette._plain, palette._cheeky = list(plain), list(cheeky)
+        return palette
 
     def colours(self, tint: float, cheeks: float, sleepy: float) -> np.ndarray:
         """The mixed skin's rows: (rows, 3) uint16 colour times alpha."""

@@ -1,11 +1,13 @@
 """The face node against a real ROS master, talked to through real topics.
 
 These run under Debian's Python with rospy (make test's third run, `-m ros`).
-Each test starts its own node; one roscore on a free loopback port serves all.
+Each test starts its own node (the commands checked on ~state share one); one roscore on a
+free loopback port serves all.
 """
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import random
@@ -104,24 +106,44 @@ def start_node(ros, *args):
     )
 
 
-@pytest.fixture
-def node(ros):
+@contextlib.contextmanager
+def running_node(ros):
+    """A node, up (its ~state is latched at start), and its ~state heard; stopped after."""
     from std_msgs.msg import String
 
     state = Topic("/baxter_face/state", String)
     proc = start_node(ros)
-    state.wait_for(timeout=30)  # up: its ~state is latched at start
-    yield proc, state
-    state.close()
-    if proc.poll() is None:
-        proc.send_signal(signal.SIGTERM)
-        proc.wait(timeout=20)
-    forget_parameters(ros)
+    try:
+        state.wait_for(timeout=30)
+        yield proc, state
+    finally:
+        state.close()
+        if proc.poll() is None:
+            proc.send_signal(signal.SIGTERM)
+            proc.wait(timeout=20)
+        forget_parameters(ros)
+
+
+@pytest.fixture
+def node(ros):
+    with running_node(ros) as started:
+        yield started
+
+
+@pytest.fixture(scope="class")
+def shared_node(ros):
+    """One node for a class's tests, each sending it a command and reading ~state after it; it
+    stops when they are done, before any other test listens or sends on the same topics."""
+    with running_node(ros) as started:
+        yield started
 
 
 def forget_parameters(ros):
     """Private parameters outlive their node on the parameter server: leave none for the next."""
-    subprocess.run(["rosparam", "delete", "/baxter_face"], env=ros, capture_output=True, timeout=30)
+    import rospy
+
+    with contextlib.suppress(KeyError):  # the node set none
+        rospy.delete_param("/baxter_face")
 
 
 def report(state_topic, after=0, test=lambda r: True, timeout=15.0):
@@ -130,6 +152,7 @@ def report(state_topic, after=0, test=lambda r: True, timeout=15.0):
 
 
 def rostopic_pub(ros, text, topic="/display_chatter"):
+    """`text` on `topic` by `rostopic pub`, as a user types it (a process, and its 3 s latch)."""
     subprocess.run(
         ["rostopic", "pub", "-1", topic, "std_msgs/String", text],
         env=ros,
@@ -137,6 +160,21 @@ def rostopic_pub(ros, text, topic="/display_chatter"):
         timeout=30,
         stdout=subprocess.DEVNULL,
     )
+
+
+def chatter(text, topic="/display_chatter"):
+    """`text` on `topic` from this process, once a node listens there: what `rostopic pub`
+    sends, without a process of its own. The publisher lives for this one message (sent before
+    it returns), so no connection to a node of an earlier test is ever written to."""
+    import rospy
+    from std_msgs.msg import String
+
+    pub = rospy.Publisher(topic, String, queue_size=None)  # publish() writes before it returns
+    try:
+        wait_for_listeners(pub)
+        pub.publish(String(text))
+    finally:
+        pub.unregister()
 
 
 def pixel(image, x, y):
@@ -172,12 +210,12 @@ def test_a_slow_morph_sends_a_frame_as_the_mouth_changes_though_its_named_parts_
     from sensor_msgs.msg import Image
 
     proc, state = node
-    rostopic_pub(ros, "default")
+    chatter("default")
     report(state, test=lambda r: r["emotion"] == "default" and r["eyelids"] == 1.0)
     screen = Topic("/robot/xdisplay", Image)
     screen.wait_for()
     seen = len(screen.messages)
-    rostopic_pub(ros, "happy 0.3 in 1s")  # the nearest named parts stay the default face's
+    chatter("happy 0.3 in 1s")  # the nearest named parts stay the default face's
 
     def mouth(m):
         return bytes(m.data[3072 * 440 : 3072 * 560])
@@ -189,28 +227,32 @@ def test_a_slow_morph_sends_a_frame_as_the_mouth_changes_though_its_named_parts_
     screen.close()
 
 
-@pytest.mark.parametrize(
-    "command, check",
-    [
-        ("sad", lambda r: r["emotion"] == "sad" and r["skin"] == 1),
-        ("wake_up", lambda r: r["emotion"] == "wake up" and r["eyelids"] == 1.0),
-        ("look_40_-20_0.5", lambda r: (r["eye_x"], r["eye_y"]) == (40.0, -20.0)),
-        ("look 200 0 in 0.2s", lambda r: r["eye_x"] == 80.0),
-        ("skin_4", lambda r: r["skin"] == 4),
-        ("dynamic_human_follow_on", lambda r: r["following"] == "human" and r["follow_dynamic"]),
-        (
-            "happy 0.6 + confused 0.4",
-            lambda r: r["emotion"] == "happy" and r["expression"]["mouth_skew"] > 0.3,
-        ),
-        ("mood -1 0 in 0.2s", lambda r: r["mood"] == [-1.0, 0.0] and r["expression"]["mouth_curve"] < 0),
-        ("mouth curve -0.5 in 0.2s", lambda r: r["expression"]["mouth_curve"] == -0.5),
-        ("eyelids left 0.25", lambda r: r["expression"]["lid_left"] == 0.25),
-    ],
-)
-def test_each_command_shows_on_state(ros, node, command, check):
-    proc, state = node
-    rostopic_pub(ros, command)
-    assert check(report(state, test=check))
+class TestEachCommand:
+    """Commands sent one after another to one node, each seen on ~state."""
+
+    @pytest.mark.parametrize(
+        "command, check",
+        [
+            ("sad", lambda r: r["emotion"] == "sad" and r["skin"] == 1),
+            ("wake_up", lambda r: r["emotion"] == "wake up" and r["eyelids"] == 1.0),
+            ("look_40_-20_0.5", lambda r: (r["eye_x"], r["eye_y"]) == (40.0, -20.0)),
+            ("look 200 0 in 0.2s", lambda r: r["eye_x"] == 80.0),
+            ("skin_4", lambda r: r["skin"] == 4),
+            ("dynamic_human_follow_on", lambda r: r["following"] == "human" and r["follow_dynamic"]),
+            (
+                "happy 0.6 + confused 0.4",
+                lambda r: r["emotion"] == "happy" and r["expression"]["mouth_skew"] > 0.3,
+            ),
+            ("mood -1 0 in 0.2s", lambda r: r["mood"] == [-1.0, 0.0] and r["expression"]["mouth_curve"] < 0),
+            ("mouth curve -0.5 in 0.2s", lambda r: r["expression"]["mouth_curve"] == -0.5),
+            ("eyelids left 0.25", lambda r: r["expression"]["lid_left"] == 0.25),
+        ],
+    )
+    def test_shows_on_state(self, ros, shared_node, command, check):
+        proc, state = shared_node
+        seen = len(state.messages)  # what the commands before this one made the node say
+        chatter(command)
+        assert check(report(state, after=seen, test=check))
 
 
 def test_wobble_sends_the_clamped_head_pan_and_enable_sends_true(ros, node):
@@ -221,10 +263,10 @@ def test_wobble_sends_the_clamped_head_pan_and_enable_sends_true(ros, node):
     pan = Topic("/robot/head/command_head_pan", message_class("HeadPanCommand"))
     enable = Topic("/robot/set_super_enable", Bool)
     time.sleep(0.5)
-    rostopic_pub(ros, "wobble_2.0")
+    chatter("wobble_2.0")
     command = pan.wait_for()
     assert command.target == pytest.approx(1.5) and command.enable_pan_request == 1
-    rostopic_pub(ros, "enable")
+    chatter("enable")
     assert enable.wait_for().data is True
     pan.close()
     enable.close()
@@ -242,12 +284,12 @@ def test_the_head_is_never_commanded_while_the_robot_says_disabled(ros, node):
     pan.wait_for_publisher()
     robot.publish(AssemblyState(enabled=False))
     report(state, test=lambda r: r["enabled"] is False)
-    rostopic_pub(ros, "wobble_0.3")
-    rostopic_pub(ros, "happy")  # a later command shows the first was handled
+    chatter("wobble_0.3")
+    chatter("happy")  # a later command shows the first was handled
     report(state, test=lambda r: r["emotion"] == "happy")
     robot.publish(AssemblyState(enabled=True))
     report(state, test=lambda r: r["enabled"] is True)
-    rostopic_pub(ros, "wobble_0.5")
+    chatter("wobble_0.5")
     pan.wait_for(lambda m: m.target == pytest.approx(0.5))
     # One connection keeps the node's order: a command for 0.3 would have come first.
     assert [round(m.target, 3) for _, m in pan.messages][:1] == [0.5]
@@ -267,7 +309,7 @@ def test_enable_is_repeated_until_the_robot_agrees(ros, node):
     robot.publish(AssemblyState(enabled=False))
     enable = Topic("/robot/set_super_enable", Bool)
     time.sleep(0.5)
-    rostopic_pub(ros, "enable")
+    chatter("enable")
     deadline = time.monotonic() + 10
     while len(enable.messages) < 3:
         assert time.monotonic() < deadline
@@ -280,9 +322,9 @@ def test_enable_is_repeated_until_the_robot_agrees(ros, node):
     # which it would ask 5 more times if it had not stopped. Then `disable`: its False comes after
     # any True the node sent before it, on the one connection.
     screen = Topic("/robot/xdisplay", Image)
-    rostopic_pub(ros, "look left in 2s")
+    chatter("look left in 2s")
     screen.wait_for_count(15)
-    rostopic_pub(ros, "disable")
+    chatter("disable")
     enable.wait_for(lambda m: m.data is False)
     asked = [m.data for _, m in enable.messages[settled:]]
     assert asked.index(False) <= 1  # it stopped asking once the robot agreed: no True but one in flight
@@ -336,10 +378,10 @@ def test_exit_publishes_the_sleep_face_then_ends_with_status_0(ros, node):
     from sensor_msgs.msg import Image
 
     proc, state = node
-    rostopic_pub(ros, "happy")
+    chatter("happy")
     report(state, test=lambda r: r["emotion"] == "happy")
     screen = Topic("/robot/xdisplay", Image)
-    rostopic_pub(ros, "exit")
+    chatter("exit")
     assert proc.wait(timeout=20) == 0
     last = screen.messages[-1][1]
     r, g, b = pixel(last, 512, 300)
@@ -425,7 +467,7 @@ def wait_for_listeners(*publishers, timeout=15.0):
 
 def test_state_says_the_emotion_shown_now_not_the_scripts_last(ros, node):
     proc, state = node
-    rostopic_pub(ros, "happy; wait 6; sad; wait 6; angry")
+    chatter("happy; wait 6; sad; wait 6; angry")
     shown = report(state, test=lambda r: r["playing"] and r["emotion"] != "sleep")
     assert shown["emotion"] == "happy"
     seen = len(state.messages)
@@ -464,7 +506,7 @@ def test_node_and_stream_send_the_same_head_commands_at_the_same_times(ros):
     proc = start_node(ros)
     try:
         state.wait_for(timeout=30)
-        from_node = head_commands_from(ros, lambda: rostopic_pub(ros, SCRIPT_FOR_THE_HEAD))
+        from_node = head_commands_from(ros, lambda: chatter(SCRIPT_FOR_THE_HEAD))
     finally:
         proc.send_signal(signal.SIGTERM)
         proc.wait(timeout=20)
@@ -515,9 +557,10 @@ def test_stream_sends_frames_in_real_time(ros, robot, topic):
     screen = Topic(topic, Image)
     proc = baxterface("stream", "--robot", robot, "--no-idle", "-e", "look 40 0 in 1s", env=ros)
     assert proc.code == 0, proc.err
-    # In real time: over the script's second, not all at once (a busy machine sends fewer).
+    # In real time: over the script's second, not all at once. A busy machine sends fewer, and
+    # its first may come late; half a second apart is still far from all at once.
     times = [t for t, _ in screen.messages]
-    assert len(times) >= 3 and times[-1] - times[0] >= 0.8
+    assert len(times) >= 3 and times[-1] - times[0] >= 0.5
     assert screen.messages[-1][1].encoding == "bgr8"
     screen.close()
 
@@ -550,7 +593,7 @@ def test_roslaunch_starts_the_face_node(ros, tmp_path):
     try:
         report(state, timeout=60)
         screen.wait_for(timeout=30)
-        rostopic_pub(ros, "happy")
+        chatter("happy")
         # The launch file's self-test flashes every layer first, so the state may say `happy` (asked
         # for) while the self-test's skin and mouth are still shown: wait for happy's own skin.
         shown = report(state, test=lambda r: r["emotion"] == "happy" and r["skin"] == 2)
@@ -569,7 +612,7 @@ def test_remapping_arguments_move_the_command_topic(ros):
     proc = start_node(ros, "display_chatter:=/face/commands", "_fps:=15")
     try:
         state.wait_for(timeout=30)
-        rostopic_pub(ros, "sad", topic="/face/commands")
+        chatter("sad", topic="/face/commands")
         assert report(state, test=lambda r: r["emotion"] == "sad" and r["skin"] == 1)["mouth"] in (
             "bored",
             "sad",
@@ -600,7 +643,7 @@ def test_sonar_readings_move_the_eyes_toward_the_person(ros, node):
 
     proc, state = node
     sonar = rospy.Publisher("/robot/sonar/head_sonar/state", PointCloud, queue_size=10)
-    rostopic_pub(ros, "human_follow_on")
+    chatter("human_follow_on")
     report(state, test=lambda r: r["following"] == "human")
     # Malformed clouds first: none of them may stop the node or move the eyes.
     for bad in [
@@ -621,7 +664,7 @@ def test_sonar_readings_move_the_eyes_toward_the_person(ros, node):
         assert time.monotonic() < deadline, latest
         time.sleep(0.05)
     assert proc.poll() is None
-    rostopic_pub(ros, "human_follow_off")
+    chatter("human_follow_off")
     assert report(state, test=lambda r: r["following"] is None and abs(r["eye_x"]) < 1)["eye_y"] == 0
     sonar.unregister()
 
@@ -635,7 +678,7 @@ def test_hand_poses_move_the_eyes_at_the_frame_rate(ros, node):
     EndpointState = message_class("EndpointState")
     proc, state = node
     hand = rospy.Publisher("/robot/limb/left/endpoint_state", EndpointState, queue_size=1)
-    rostopic_pub(ros, "left_arm_follow_on")
+    chatter("left_arm_follow_on")
     report(state, test=lambda r: r["following"] == "left arm")
     deadline = time.monotonic() + 15
     seen = len(state.messages)
@@ -651,7 +694,7 @@ def test_hand_poses_move_the_eyes_at_the_frame_rate(ros, node):
     # The node reported at its own pace, not once per pose.
     assert len(state.messages) - seen < 100
     hand.publish(EndpointState(pose=Pose(position=Point(float("nan"), 0, 0))))
-    rostopic_pub(ros, "arm_follow_off")  # answered after the bad pose: the node is up and well
+    chatter("arm_follow_off")  # answered after the bad pose: the node is up and well
     report(state, test=lambda r: r["following"] is None)
     assert proc.poll() is None
     hand.unregister()
@@ -703,7 +746,7 @@ def test_a_face_in_the_head_camera_draws_the_eyes_to_it_in_every_encoding(ros, n
     proc, state = node
     camera = rospy.Publisher("/cameras/head_camera/image", Image, queue_size=1)
     assert camera_subscribers(ros) in ([], [[]])  # not followed: the node does not take the images
-    rostopic_pub(ros, "follow face")
+    chatter("follow face")
     report(state, test=lambda r: r["following"] == "face")
     # Up and to the image's left, which is the robot's left: eyes right (+x) and up (-y).
     for encoding, centre, test in [
@@ -725,7 +768,7 @@ def test_a_face_in_the_head_camera_draws_the_eyes_to_it_in_every_encoding(ros, n
         lambda r: r["follow_seen"] is False and abs(r["eye_x"]) < 1,
     )
     assert proc.poll() is None
-    rostopic_pub(ros, "follow off")
+    chatter("follow off")
     report(state, test=lambda r: r["following"] is None)
     deadline = time.monotonic() + 10
     while camera_subscribers(ros) not in ([], [[]]):  # it lets go of the camera too
@@ -757,7 +800,7 @@ def test_the_focal_length_comes_from_the_cameras_camera_info_and_camera_hfov_ove
         proc = start_node(ros, *args)
         try:
             state.wait_for(timeout=30)
-            rostopic_pub(ros, "follow face")
+            chatter("follow face")
             report(state, test=lambda r: r["following"] == "face")
             deadline = time.monotonic() + 20
             while True:  # both at the camera's rates, as a camera driver publishes them
@@ -786,7 +829,7 @@ def test_following_a_face_dynamically_turns_the_head_toward_it(ros, node):
     proc, state = node
     pan = Topic("/robot/head/command_head_pan", message_class("HeadPanCommand"))
     camera = rospy.Publisher("/cameras/head_camera/image", Image, queue_size=1)
-    rostopic_pub(ros, "dynamic_face_follow_on")
+    chatter("dynamic_face_follow_on")
     report(state, test=lambda r: r["following"] == "face" and r["follow_dynamic"])
     far_left = camera_image((90, 200))  # about 30 degrees to the robot's left: beyond the eyes' reach
     deadline = time.monotonic() + 15
@@ -795,7 +838,7 @@ def test_following_a_face_dynamically_turns_the_head_toward_it(ros, node):
         assert time.monotonic() < deadline, "no head pan"
         time.sleep(1 / 30)
     assert 0.4 < pan.messages[0][1].target < 0.8
-    rostopic_pub(ros, "follow off")
+    chatter("follow off")
     pan.close()
     camera.unregister()
 
@@ -941,7 +984,7 @@ def test_a_head_state_that_is_not_a_number_never_reaches_state_as_invalid_json(r
     report(state, test=lambda r: r["head_pan"] == 0.25)
     for bad in (float("nan"), float("inf"), float("-inf")):
         head.publish(HeadState(pan=bad))
-    rostopic_pub(ros, "happy")
+    chatter("happy")
     shown = report(state, test=lambda r: r["emotion"] == "happy")
     assert shown["head_pan"] == 0.25
     for _, msg in state.messages:
@@ -1029,7 +1072,7 @@ def test_ros_console_examples_do_what_the_docs_show(ros, doc, command, expected,
     try:
         if face is not None:
             state.wait_for(timeout=30)
-            rostopic_pub(ros, "happy")
+            chatter("happy")
             report(state, test=lambda r: r["emotion"] == "happy")
         if starts_a_node:  # runs until stopped: it must come up and answer
             proc = subprocess.Popen(shlex.split(command), cwd=str(tmp_path), env=env)

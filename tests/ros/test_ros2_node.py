@@ -259,9 +259,10 @@ def test_stream_sends_frames_in_real_time(face, ros2):
         env=ros2,
     )
     assert run.code == 0, run.err
-    # In real time: over the script's second, not all at once (a busy machine sends fewer).
+    # In real time: over the script's second, not all at once. A busy machine sends fewer, and
+    # its first may come late; half a second apart is still far from all at once.
     times = [t for t, _ in screen.messages]
-    assert len(times) >= 3 and times[-1] - times[0] >= 0.8
+    assert len(times) >= 3 and times[-1] - times[0] >= 0.5
     assert set(m for _, m in screen.messages) == {"bgr8"}
     screen.close()
 

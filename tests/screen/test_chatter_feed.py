@@ -54,8 +54,7 @@ def test_display_chatter_plays_on_the_screen_and_a_bad_command_is_logged(roscore
         )
         try:
             eventually(lambda: screen.json("GET", "/api/state")[1]["duration"] == 2.0)  # the flood plays
-            screen.process.send_signal(signal.SIGTERM)
-            assert screen.process.wait(timeout=60) == 128 + signal.SIGTERM
+            assert screen.stop(signal.SIGTERM) == 128 + signal.SIGTERM
         finally:
             flood.terminate()
             flood.wait(timeout=30)

@@ -10,6 +10,7 @@ from __future__ import annotations
 import json
 import os
 import re
+import signal
 import subprocess
 import sys
 import time
@@ -54,6 +55,18 @@ class Studio:
         """What the studio has printed so far, a line each."""
         return self.log_path.read_text(encoding="utf-8").splitlines() if self.log_path else []
 
+    def stop(self, signum: int = signal.SIGTERM, timeout: float = 60.0) -> int:
+        """Send `signum` and wait for the exit status. One that never comes fails the test with
+        every thread's stack (faulthandler's, on SIGABRT) from the log."""
+        self.process.send_signal(signum)
+        try:
+            return self.process.wait(timeout=timeout)
+        except subprocess.TimeoutExpired:
+            self.process.send_signal(signal.SIGABRT)
+            self.process.wait(timeout=30)
+            stacks = "\n".join(self.log())
+            raise AssertionError(f"still running {timeout:.0f} s after {signum!r}:\n{stacks}") from None
+
     def frame(self) -> bytes:
         status, data = self.request("GET", "/api/frame.jpg")
         assert status == 200, data
@@ -95,7 +108,7 @@ def running(
             [baxterface(), *words],
             stdout=subprocess.DEVNULL,
             stderr=err,
-            env=dict(env or os.environ, PYTHONUNBUFFERED="1"),
+            env=dict(env or os.environ, PYTHONUNBUFFERED="1", PYTHONFAULTHANDLER="1"),
         )
         try:
             deadline = time.monotonic() + timeout
