@@ -124,6 +124,7 @@ def hide_pyav(tmp_path: Path) -> dict:
     return dict(os.environ, PYTHONPATH=os.pathsep.join([str(fake), os.environ.get("PYTHONPATH", "")]))
 
 
+@pytest.mark.one_python  # ffmpeg's encoder, the same under every Python
 @pytest.mark.skipif(shutil.which("ffmpeg") is None, reason="needs the ffmpeg program")
 def test_without_pyav_an_ffmpeg_on_path_writes_the_same_video(tmp_path):
     out = tmp_path / "fallback.mp4"

@@ -215,6 +215,7 @@ def test_links_planted_beside_the_target_are_never_followed(tmp_path, target):
     Image.open(first).verify()
 
 
+@pytest.mark.one_python  # the file system's renames, the same under every Python
 def test_two_renders_to_one_target_at_once_leave_one_of_them_whole(tmp_path):
     # Each render's result is known from a render alone; together, the
     # target must be exactly one of the two, never a mixture. The seeds

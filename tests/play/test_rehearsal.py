@@ -204,6 +204,7 @@ def test_a_face_that_leaves_a_video_is_let_go(tmp_path):
     assert gone and min(gone) < stream.left_at + 1.0  # let go within a second of leaving
 
 
+@pytest.mark.one_python  # whole videos through OpenCV's detector: the same under every Python
 def test_the_face_policy_chooses_which_of_three_faces_in_a_video_is_followed(tmp_path):
     cv2 = needs("cv2")
     needs("skimage")

@@ -179,12 +179,14 @@ def test_bad_arguments_and_images_are_value_errors():
 # -- the goals, scenario by scenario ----------------------------------------------------------------
 
 
+@pytest.mark.one_python  # whole videos through OpenCV's detector: the same under every Python
 @pytest.mark.parametrize("name", WITH_A_FACE + FAR)
 def test_a_face_in_view_has_a_target_in_nine_frames_out_of_ten_after_the_first_second(name):
     fs = streams()
     assert fs.coverage(result(name)) >= 0.90
 
 
+@pytest.mark.one_python  # whole videos through OpenCV's detector: the same under every Python
 @pytest.mark.parametrize("name", WITH_A_FACE + FAR + ["nearer face", "far nearer"])
 def test_the_target_is_within_two_eye_pixels_rms_of_the_face(name):
     fs = streams()
@@ -201,6 +203,7 @@ def test_a_face_that_leaves_is_let_go_within_a_second(name):
     assert after >= 0.2
 
 
+@pytest.mark.one_python  # whole videos through OpenCV's detector: the same under every Python
 @pytest.mark.parametrize("name", DISTRACTORS)
 def test_a_cat_a_page_of_text_or_a_picture_that_is_not_a_face_is_never_followed(name):
     assert all(target is None for target in result(name).targets)
@@ -228,6 +231,7 @@ def test_the_checks_turn_down_what_a_sweep_that_takes_any_window_for_a_face_find
     assert all(target is None for target in run.targets)  # ... and followed none
 
 
+@pytest.mark.one_python  # whole videos through OpenCV's detector: the same under every Python
 @pytest.mark.parametrize("name", ["two faces", "far two"])
 def test_two_faces_of_about_the_same_size_do_not_swap(name):
     fs = streams()
@@ -260,6 +264,7 @@ def followed_faces(run, policy_from=0.5):
     return followed
 
 
+@pytest.mark.one_python  # whole videos through OpenCV's detector: the same under every Python
 @pytest.mark.parametrize("name", ["nearer face", "far nearer"])
 def test_a_clearly_nearer_face_takes_over_within_half_a_second_once_and_for_good(name):
     run = result(name)
@@ -271,6 +276,7 @@ def test_a_clearly_nearer_face_takes_over_within_half_a_second_once_and_for_good
     assert followed[-1][1] == 1
 
 
+@pytest.mark.one_python  # whole videos through OpenCV's detector: the same under every Python
 @pytest.mark.parametrize("policy, face", [("nearest", 1), ("central", 2), ("longest", 0)])
 def test_the_policy_chooses_among_three_faces(policy, face):
     # The first seen (off the middle, from the start), the nearest and the most central (from 0.6 s;
