@@ -92,7 +92,7 @@ def screen(
             webbrowser.open(url)
 
     try:
-        stopped_by = serve(api.app(token), sock, ready)
+        stopped_by = serve(api.app(token), sock, ready, stopping=api.stop_taking)
     finally:
         if unsubscribe is not None:
             unsubscribe()

@@ -131,6 +131,7 @@ class FaceApi:
         self.heavy = Heavy()
         self.loop: Optional[asyncio.AbstractEventLoop] = None
         self.serving = threading.Event()
+        self.closing = threading.Event()
 
     def app(self, token: Optional[str] = None) -> Guard:
         """The ASGI application, behind its guard (loopback, same site, the token)."""
@@ -156,6 +157,11 @@ class FaceApi:
             self.loop = asyncio.get_running_loop()
             self.serving.set()
         self.pump.start()
+
+    def stop_taking(self) -> None:
+        """The server is stopping: commands from other threads are let go, not started. (While
+        it stops, its loop still runs; a flood handed over then kept it from ever stopping.)"""
+        self.closing.set()
 
     # -- what a subclass says
 
@@ -190,7 +196,7 @@ class FaceApi:
         it, a refusal logged in one line naming `source`. Returns once it is taken or refused, so
         commands from one thread keep their order."""
         loop = self.loop if self.serving.wait(HANDED_OVER) else None
-        if loop is None or not loop.is_running():
+        if loop is None or not loop.is_running() or self.closing.is_set():
             return
         taken = asyncio.run_coroutine_threadsafe(self._handed(text, source), loop)
         deadline = time.monotonic() + HANDED_OVER
@@ -199,7 +205,8 @@ class FaceApi:
                 taken.result(0.1)
                 return
             except concurrent.futures.TimeoutError:
-                if not loop.is_running():  # the server stopped: nothing will take it
+                if self.closing.is_set() or not loop.is_running():  # nothing will take it
+                    taken.cancel()
                     return
                 if time.monotonic() > deadline:
                     taken.cancel()
@@ -207,6 +214,8 @@ class FaceApi:
                     return
 
     async def _handed(self, text: str, source: str) -> None:
+        if self.closing.is_set():
+            return
         try:
             code, answer = await self.perform(text)
         except Busy as e:

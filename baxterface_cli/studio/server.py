@@ -8,11 +8,13 @@ from __future__ import annotations
 from typing import Any, Callable, Optional
 
 
-def serve(app: Any, sock: Any, ready: Callable[[], None]) -> Optional[int]:
+def serve(
+    app: Any, sock: Any, ready: Callable[[], None], stopping: Callable[[], None] = lambda: None
+) -> Optional[int]:
     """Run `app` on the bound socket until Ctrl-C or SIGTERM; returns the signal that stopped it.
 
-    `ready` is called once the server answers. A signal never interrupts the
-    set-up (under Python 3.8, Ctrl-C inside logging's set-up broke a lock): one
+    `ready` is called once the server answers, `stopping` as it begins to stop. A signal never
+    interrupts the set-up (under Python 3.8, Ctrl-C inside logging's set-up broke a lock): one
     that comes before uvicorn takes the signals over is kept, and stops the
     server as soon as it is up; uvicorn hands back the ones it caught the same way.
     """
@@ -40,6 +42,10 @@ def serve(app: Any, sock: Any, ready: Callable[[], None]) -> Optional[int]:
                 self.should_exit = True
             elif not self.should_exit:
                 ready()
+
+        async def shutdown(self, sockets: Any = None) -> None:
+            stopping()
+            await super().shutdown(sockets=sockets)
 
     try:
         config = uvicorn.Config(app, log_level="warning", lifespan="off", ws_max_size=4 * 1024 * 1024)
