@@ -26,7 +26,8 @@ STUDIO_EXTRAS := speech,studio
 # ROS 1 std_msgs and sensor_msgs (Debian's) ROS 2's own would hide. On 3.8 the extra installs nothing.
 ROS1_EXTRAS := test,video,bag,speech,lipsync,camera,studio
 EXTRAS := $(ROS1_EXTRAS),ros2
-PIP_QUIET := --quiet --disable-pip-version-check
+# Modules are compiled as they are first imported rather than all at install (most never are).
+PIP_OPTS := --quiet --disable-pip-version-check --no-compile
 # pytest workers for each Python suite (they run beside each other and the ROS suite)
 JOBS ?= 2
 
@@ -42,18 +43,18 @@ venv-ros: $(VENV_ROS)/.installed
 
 $(VENV)/.play: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
-	$(BIN)/pip install $(PIP_QUIET) -e '.[$(PLAY_EXTRAS)]'
+	$(BIN)/pip install $(PIP_OPTS) -e '.[$(PLAY_EXTRAS)]'
 	touch $@
 
 $(VENV)/.studio: $(VENV)/.play
-	$(BIN)/pip install $(PIP_QUIET) -e '.[$(STUDIO_EXTRAS)]'
+	$(BIN)/pip install $(PIP_OPTS) -e '.[$(STUDIO_EXTRAS)]'
 	touch $@
 
 $(VENV)/.installed: $(VENV)/.play
-	$(BIN)/pip install $(PIP_QUIET) -e '.[$(EXTRAS)]'
+	$(BIN)/pip install $(PIP_OPTS) -e '.[$(EXTRAS)]'
 	@# ROS 2's rosidl_parser wheel needs lark-parser, lark's old name, whose files land on lark's own
 	@# when it comes later: put lark's back.
-	$(BIN)/pip install $(PIP_QUIET) --force-reinstall --no-deps 'lark>=1.1.5,<2'
+	$(BIN)/pip install $(PIP_OPTS) --force-reinstall --no-deps 'lark>=1.1.5,<2'
 	touch $@
 
 # Pinned to versions known to work on 3.8: unpinned, pip backtracks through old releases for half
@@ -61,7 +62,7 @@ $(VENV)/.installed: $(VENV)/.play
 $(VENV38)/.installed: pyproject.toml .ci/constraints-py38.txt
 	@test -n "$(PY38)" || { echo "make: no Python 3.8 found (looked in ~/.pyenv/versions/3.8*); set PY38=/path/to/python3.8"; exit 1; }
 	$(PY38) -m venv $(VENV38)
-	$(VENV38)/bin/pip install $(PIP_QUIET) -c .ci/constraints-py38.txt -e '.[$(EXTRAS)]'
+	$(VENV38)/bin/pip install $(PIP_OPTS) -c .ci/constraints-py38.txt -e '.[$(EXTRAS)]'
 	touch $@
 
 # The ROS tests' environment: sees Debian's ROS packages, adds only what they lack.
@@ -69,7 +70,7 @@ $(VENV_ROS)/.installed: pyproject.toml | system
 	$(ROS_PYTHON) -m venv --system-site-packages $(VENV_ROS)
 	@# Keep Debian's NumPy: its cv_bridge is built against it.
 	$(ROS_PYTHON) -c 'import numpy; print("numpy==" + numpy.__version__)' > $(VENV_ROS)/constraints.txt
-	$(VENV_ROS)/bin/pip install $(PIP_QUIET) -c $(VENV_ROS)/constraints.txt -e '.[$(ROS1_EXTRAS)]'
+	$(VENV_ROS)/bin/pip install $(PIP_OPTS) -c $(VENV_ROS)/constraints.txt -e '.[$(ROS1_EXTRAS)]'
 	touch $@
 
 # Debian packages: ROS 1 (roscore, rospy, cv_bridge; see ../shared/spec/baxter-ros.md) and Xvfb.
