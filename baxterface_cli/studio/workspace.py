@@ -17,7 +17,7 @@ import os
 import threading
 import time
 from pathlib import Path
-from typing import Any, Callable, Dict, List, Optional
+from typing import Any, Callable, Dict, List, Optional, Tuple
 
 from ..core.easing import EASINGS
 from ..core.partial_files import write_atomic
@@ -170,11 +170,15 @@ class Workspace:
         return decode(read_bounded(self.path, self.name), self.name)
 
     @staticmethod
-    def _mtime(path: Optional[Path]) -> Optional[int]:
+    def _mtime(path: Optional[Path]) -> Optional[Tuple[int, int, int]]:
+        """What tells one version of a file from the next: its modification time, and its size
+        and inode beside it, since two writes within one tick of the file system's clock (a few
+        milliseconds) get the same time."""
         try:
-            return os.stat(str(path)).st_mtime_ns if path else None
+            found = os.stat(str(path)) if path else None
         except OSError:
             return None
+        return (found.st_mtime_ns, found.st_size, found.st_ino) if found else None
 
     def update(self, text: str) -> Dict[str, Any]:
         """The editor's text: checked, and played by the preview when it is good."""
