@@ -160,8 +160,8 @@ class Workspace:
         # Counts the versions of the file: each save here and each change seen on disk. A page
         # saves "over version N"; when the disk has moved on since, it is asked before overwriting.
         self.version = 0
-        self._disk_mtime = self._mtime(self.path)
-        self._panel_mtime = self._mtime(panel) if panel else None
+        self._disk_stamp = self._stamp(self.path)
+        self._panel_stamp = self._stamp(panel) if panel else None
         self.update(self.text)
 
     # -- the script
@@ -170,7 +170,7 @@ class Workspace:
         return decode(read_bounded(self.path, self.name), self.name)
 
     @staticmethod
-    def _mtime(path: Optional[Path]) -> Optional[Tuple[int, int, int]]:
+    def _stamp(path: Optional[Path]) -> Optional[Tuple[int, int, int]]:
         """What tells one version of a file from the next: its modification time, and its size
         and inode beside it, since two writes within one tick of the file system's clock (a few
         milliseconds) get the same time."""
@@ -236,13 +236,13 @@ class Workspace:
                 raise SaveConflict(f"{self.name} changed on disk since it was loaded", self.version)
             write_atomic(self.path, text.encode("utf-8"))
             self.saved = self.text = text
-            self._disk_mtime = self._mtime(self.path)
+            self._disk_stamp = self._stamp(self.path)
             self.version += 1
             return {"saved": True, "name": self.name, "version": self.version}
 
     def _changed_on_disk(self) -> bool:
-        mtime = self._mtime(self.path)
-        if mtime is None or mtime == self._disk_mtime:
+        stamp = self._stamp(self.path)
+        if stamp is None or stamp == self._disk_stamp:
             return False
         try:
             return self._read() != self.saved
@@ -252,9 +252,9 @@ class Workspace:
     def disk_changes(self) -> List[Dict[str, Any]]:
         """What changed on disk since last asked: the script (as `play --watch` sees it) and the panel."""
         changes: List[Dict[str, Any]] = []
-        mtime = self._mtime(self.path)
-        if mtime is not None and mtime != self._disk_mtime:
-            self._disk_mtime = mtime
+        stamp = self._stamp(self.path)
+        if stamp is not None and stamp != self._disk_stamp:
+            self._disk_stamp = stamp
             try:
                 text = self._read()
             except ScriptError:
@@ -269,9 +269,9 @@ class Workspace:
                     self.update(text)
                 changes.append({"kind": "disk", "name": self.name, "text": text, "version": version})
         if self.panel_path is not None:
-            mtime = self._mtime(self.panel_path)
-            if mtime != self._panel_mtime:
-                self._panel_mtime = mtime
+            stamp = self._stamp(self.panel_path)
+            if stamp != self._panel_stamp:
+                self._panel_stamp = stamp
                 try:
                     self.buttons = load_panel(self.panel_path)
                     changes.append({"kind": "buttons", "buttons": [b.as_json() for b in self.buttons]})
