@@ -20,6 +20,7 @@ from ..core.partial_files import remove_stale, write_atomic
 from ..resources import resource
 from . import artwork
 from .drawn_parts import DrawnParts
+from .layer_store import kept_layers
 from .theme_fitting import ThemeLayers, _prepare, _resample
 from .theme_manifest import (
     MANIFEST,
@@ -43,14 +44,29 @@ class Theme:
     """A set of face layers at the theme's own size."""
 
     def __init__(
-        self, name: str, size: Size, lid_travel: float, images: Dict[Key, Placed], builtin: bool = False
+        self,
+        name: str,
+        size: Size,
+        lid_travel: float,
+        images: Optional[Dict[Key, Placed]],
+        builtin: bool = False,
+        folder: Optional[Path] = None,
     ) -> None:
+        """`images` None: read from `folder` when first asked for (the default theme's, whose
+        fitted layers mostly come from the user's cache, layer_store.py)."""
         self.name = name
         self.size = size
         self.lid_travel = lid_travel
-        self.images = images
+        self._images = images
+        self._folder = folder
         self.builtin = builtin
         self._fitted: OrderedDict[Size, ThemeLayers] = OrderedDict()
+
+    @property
+    def images(self) -> Dict[Key, Placed]:
+        if self._images is None:
+            self._images = Theme.load(self._folder or ".").images
+        return self._images
 
     @property
     def stand_ins(self) -> Dict[Key, Key]:
@@ -121,7 +137,10 @@ class Theme:
         if size in self._fitted:
             self._fitted.move_to_end(size)
             return self._fitted[size]
-        fitted = _prepare(self.placed_at(size), size, self.lid_travel)
+        if self.builtin:
+            fitted = kept_layers(size, lambda: _prepare(self.placed_at(size), size, self.lid_travel))
+        else:
+            fitted = _prepare(self.placed_at(size), size, self.lid_travel)
         if self.builtin:
             drawn = DrawnParts(size, fitted.skins, fitted.mouths, fitted.brows)
             fitted = fitted._replace(skins=drawn.skins, mouths=drawn.mouths, brows=drawn.brows, drawn=drawn)
@@ -167,9 +186,13 @@ class Theme:
 
 @lru_cache(maxsize=1)
 def _default_theme() -> Theme:
-    theme = Theme.load(resource("assets/default"))
-    theme.builtin = True
-    return theme
+    """The built-in theme: its manifest read now, its pictures only when something needs them."""
+    folder = resource("assets/default")
+    manifest_path = folder / MANIFEST
+    manifest = _read_manifest(manifest_path)
+    size = _manifest_size(manifest, manifest_path)
+    lid_travel = float(manifest.get("lid_travel", artwork.LID_TRAVEL))
+    return Theme(str(manifest.get("name", folder.name)), size, lid_travel, None, builtin=True, folder=folder)
 
 
 def resolve(theme: Union[None, str, Path, Theme]) -> Theme:

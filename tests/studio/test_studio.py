@@ -372,7 +372,7 @@ def test_a_save_over_a_change_on_disk_is_refused_unless_forced(folder):
         assert status == 409 and answer["conflict"] and "changed on disk" in answer["error"]
         assert script.read_text() == "angry\n"  # untouched
         # Once the studio has seen the change, the page learns its version and can save over it.
-        version = _wait_for_version(studio, 2)
+        version = _version_once_seen(studio, "angry\n")
         assert studio.json("POST", f"/api/save?base={version}", "happy\n")[0] == 200
         script.write_text("bored\n")
         assert studio.json("POST", "/api/save?base=3", "happy\n")[0] == 409
@@ -381,15 +381,17 @@ def test_a_save_over_a_change_on_disk_is_refused_unless_forced(folder):
         assert studio.json("POST", "/api/save?base=x1", "happy\n")[0] == 400
 
 
-def _wait_for_version(studio, version, timeout=10.0):
-    """The script's version once the studio has looked at the disk (every half second)."""
+def _version_once_seen(studio, text, timeout=10.0):
+    """The script's version once the studio has looked at the disk (every half second) and
+    found `text` there. Not the first new version: a write that truncates, then writes, may be
+    seen half done (an empty file), and counts as a version of its own."""
     import time
 
     deadline = time.monotonic() + timeout
     while True:
-        current = studio.json("GET", "/api/state")[1]["script"]["version"]
-        if current >= version or time.monotonic() > deadline:
-            return current
+        script = studio.json("GET", "/api/state")[1]["script"]
+        if script["text"] == text or time.monotonic() > deadline:
+            return script["version"]
         time.sleep(0.05)
 
 
