@@ -23,7 +23,7 @@ def main() -> None:
     args = parser.parse_args()
     images = {key: Placed(image, (0, 0)) for key, image in artwork.draw_theme(args.size).items()}
     theme = Theme("default", args.size, artwork.LID_TRAVEL, images)
-    for path in theme.export(args.folder, force=True):
+    for path in theme.export(args.folder, force=True, smallest=True):
         print(path)
 
 

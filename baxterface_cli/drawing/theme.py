@@ -152,17 +152,23 @@ class Theme:
     # -- writing
 
     def export(
-        self, folder: Union[str, Path], size: Optional[Size] = None, force: bool = False
+        self,
+        folder: Union[str, Path],
+        size: Optional[Size] = None,
+        force: bool = False,
+        smallest: bool = False,
     ) -> List[Path]:
-        """Write the layers (PNG) and theme.json to `folder`, to edit or to use with --theme."""
+        """Write the layers (PNG) and theme.json to `folder`, to edit or to use with --theme;
+        `smallest` compresses the pictures as far as PNG goes (a quarter smaller, four times
+        slower: for the theme the package ships)."""
         folder = Path(folder)
         size = size or self.size
         try:
-            return self._export(folder, size, force)
+            return self._export(folder, size, force, smallest)
         except OSError as e:
             raise ThemeError(f"{folder}: cannot write: {e.strerror or e}") from None
 
-    def _export(self, folder: Path, size: Size, force: bool) -> List[Path]:
+    def _export(self, folder: Path, size: Size, force: bool, smallest: bool) -> List[Path]:
         if folder.exists() and not folder.is_dir():
             raise ThemeError(f"{folder}: not a folder; choose a new folder")
         if folder.exists() and any(folder.iterdir()) and not force:
@@ -174,7 +180,7 @@ class Theme:
             filename = f"{kind}.png" if kind == name else f"{kind}-{name}.png"
             path = folder / filename
             data = io.BytesIO()
-            placed.image.save(data, format="PNG", optimize=True)
+            placed.image.save(data, format="PNG", optimize=smallest)
             write_atomic(path, data.getvalue())
             written.append(path)
             layers.append({"kind": kind, "name": name, "file": filename, "anchor": list(placed.anchor)})

@@ -17,6 +17,9 @@ from baxterface_cli.drawing.theme import OPTIONAL, Theme
 from baxterface_cli.language.diagnostics import ScriptError
 from conftest import baxterface
 
+# One worker runs the module, so the exported theme is made once, not once a worker.
+pytestmark = pytest.mark.xdist_group("speech_mouths")
+
 SIZE = (256, 150)
 SPEECH = [viseme_mouth(shape) for shape in VISEMES]
 

@@ -14,6 +14,9 @@ from baxterface_cli.drawing.theme import Theme
 from baxterface_cli.drawing.theme_manifest import parse_size
 from conftest import baxterface
 
+# One worker runs the module, so the exported theme is made once, not once a worker.
+pytestmark = pytest.mark.xdist_group("theme_export")
+
 SIZE = (256, 150)
 
 

@@ -25,6 +25,9 @@ from baxterface_cli.drawing import artwork
 from baxterface_cli.drawing.renderer import Renderer, compose
 from baxterface_cli.drawing.theme import Theme
 
+# One worker runs the module, so the base theme is made once, not once a worker.
+pytestmark = pytest.mark.xdist_group("theme_fuzz")
+
 SIZE = (48, 28)
 FILES = sorted(
     f"{kind}.png" if kind == name else f"{kind}-{name}.png" for kind, name in artwork.layer_names()

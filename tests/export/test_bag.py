@@ -22,7 +22,8 @@ from PIL import Image
 from baxterface_cli.ros.messages import DEFINITIONS, message_class
 from conftest import ROOT, baxterface
 
-pytestmark = pytest.mark.ros
+# One worker runs the module, so the bag is written once, not once a worker.
+pytestmark = [pytest.mark.ros, pytest.mark.xdist_group("bag")]
 
 SCRIPT = 'happy; look 40 0 in 1s; wobble 0.5 in 1s; nod; say "Hello there"; disable; enable; sad'
 FPS = 30

@@ -29,6 +29,9 @@ from baxterface_cli.robot.face_finder import BAXTER_HEAD_CAMERA_HFOV, FaceFollow
 from baxterface_cli.robot.following import DEGREES_PER_RADIAN, PIXELS_PER_ELEVATION
 from conftest import needs
 
+# One worker runs the module, so the followers' runs over each stream are made once, not once a worker.
+pytestmark = pytest.mark.xdist_group("face_streams")
+
 _RESULTS: Dict[Tuple[str, str], object] = {}
 
 

@@ -15,6 +15,9 @@ import pytest
 
 from conftest import baxterface
 
+# One worker runs the module, so the rendered video is made once, not once a worker.
+pytestmark = pytest.mark.xdist_group("lipsync_video")
+
 av = pytest.importorskip("av")
 speech = pytest.importorskip("baxterface_cli.speech.synthesis")
 

@@ -28,6 +28,9 @@ from baxterface_cli.speech.synthesis import Phoneme, Utterance
 from baxterface_cli.speech.visemes import CLOSURES, mouth_track, shape_at
 from conftest import baxterface
 
+# One worker runs the module, so the recordings, and what is heard in them, are made once.
+pytestmark = pytest.mark.xdist_group("recordings")
+
 pytest.importorskip("av")
 pytest.importorskip("pocketsphinx")
 
