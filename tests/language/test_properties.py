@@ -17,6 +17,7 @@ from hypothesis.extra.lark import from_lark
 from lark.lexer import PatternStr
 
 from baxterface_cli import ScriptError, parse
+from baxterface_cli.cli.app import check_recordings
 from baxterface_cli.core.tables import BROWS, DIRECTIONS, MOUTHS
 from baxterface_cli.engine.compiler import compile_script
 from baxterface_cli.engine.timeline import state_record
@@ -162,6 +163,7 @@ def test_what_parses_compiles_samples_and_explains(text):
     # ScriptError may escape, from any step.
     try:
         script = parse(text)
+        check_recordings(script)  # as `check` does: a recording it names must be there
     except ScriptError:
         return
     if measure(script.body, {})[1] > 5000:  # unrolled size, kept small for speed
