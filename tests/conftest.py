@@ -26,10 +26,21 @@ sys.path.insert(0, str(Path(__file__).resolve().parent / "support"))
 # nothing happen. Handled here, it is back to the default in every program the tests start.
 signal.signal(signal.SIGINT, signal.default_int_handler)
 
-# What the tests analyse (`say file`) is kept in a cache of their own, never in the user's: set here,
-# every program the tests start inherits it.
-os.environ["XDG_CACHE_HOME"] = tempfile.mkdtemp(prefix="baxterface-test-cache-")
-atexit.register(shutil.rmtree, os.environ["XDG_CACHE_HOME"], True)
+# What the tests keep (the recordings' analyses, the fitted theme, the palettes) is in a cache of
+# their own, never the user's, and one for the whole run: made by the first process to load this
+# (pytest, or xdist's controller), whose workers inherit it, so each thing is made once a run rather
+# than once a worker. Every program the tests start inherits it too.
+if "BAXTERFACE_TEST_CACHE" not in os.environ:
+    os.environ["BAXTERFACE_TEST_CACHE"] = tempfile.mkdtemp(prefix="baxterface-test-cache-")
+    atexit.register(shutil.rmtree, os.environ["BAXTERFACE_TEST_CACHE"], True)
+os.environ["XDG_CACHE_HOME"] = os.environ["BAXTERFACE_TEST_CACHE"]
+
+
+def pytest_collection_modifyitems(config, items):
+    """The modules that run in one worker (`xdist_group`: a costly fixture made once, or a server
+    of their own) go out first, so the longest runs start early and the rest fill in beside them,
+    rather than one of them running alone at the end."""
+    items.sort(key=lambda item: item.get_closest_marker("xdist_group") is None)
 
 
 class Run:

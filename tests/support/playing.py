@@ -42,3 +42,11 @@ class FakeClock:
 
     def sleep(self, seconds: float) -> None:
         self.now += seconds
+
+
+def paced(times, fps: float = 30.0) -> bool:
+    """Whether frames heard at `times` (seconds, in order) came at a real-time player's pace at
+    `fps`, not all at once. A real-time player sends each frame at its time in the script and
+    drops the ones it is late for, so however late its first (on a busy machine), the rest come
+    at least half a frame apart on average; all at once, they come milliseconds apart."""
+    return len(times) >= 3 and times[-1] - times[0] >= (len(times) - 1) * 0.5 / fps
