@@ -10,6 +10,7 @@ from __future__ import annotations
 import io
 import json
 import shutil
+import sys
 import tempfile
 from pathlib import Path
 
@@ -149,7 +150,12 @@ def apply(folder, name, change):
         path.write_bytes(path.read_bytes()[: path.stat().st_size // 2])
 
 
-@settings(max_examples=150, deadline=None, suppress_health_check=list(HealthCheck))
+# The search is the main suite's; under Python 3.8 (make test runs this there too) a quarter as many
+# show that damaged themes fail clearly there as well.
+EXAMPLES = 150 if sys.version_info >= (3, 9) else 40
+
+
+@settings(max_examples=EXAMPLES, deadline=None, suppress_health_check=list(HealthCheck))
 @given(data=st.data(), changes=st.lists(file_changes, max_size=2))
 def test_a_damaged_theme_fails_clearly_or_draws_right(base, data, changes):
     manifest = data.draw(manifests((base / "theme.json").read_text()), label="theme.json")

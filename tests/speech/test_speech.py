@@ -221,6 +221,7 @@ def test_espeak_ng_accepts_every_carried_voice(engine):
         engine.voice_file("xx-nonsense")
 
 
+@pytest.mark.one_python  # a hundred runs of the espeak-ng program: the same under every Python
 def test_the_engine_takes_the_voices_the_espeak_ng_program_takes(engine):
     if shutil.which("espeak-ng") is None:
         pytest.skip("the espeak-ng program is not installed, only its library")
