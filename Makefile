@@ -31,8 +31,10 @@ PIP_OPTS := --quiet --disable-pip-version-check --no-compile
 # ...and kept: with PYTHONDONTWRITEBYTECODE set (as some CI images do), every process of the tests
 # compiled every module it imported again, 1.4 s of a 2.4 s `render` to PNG.
 unexport PYTHONDONTWRITEBYTECODE
-# pytest workers for each Python suite (they run beside each other and the ROS suite)
+# pytest workers for each Python suite (they run beside each other and the ROS suite); the 3.11
+# suite, the longest, has one more, so that it keeps both cores busy once the others are done
 JOBS ?= 2
+MAIN_JOBS ?= 3
 
 .PHONY: play test test-python test-python38 test-ros test-realtime lint format golden theme pictures bench system system-play venv \
 	venv-play venv-studio venv38 venv-ros ros clean editor studio
@@ -112,7 +114,7 @@ test: system
 	$(MAKE) --no-print-directory test-realtime
 
 test-python: lint
-	$(BIN)/python -m pytest -n $(JOBS) --dist loadgroup -m "not ros $(BESIDE)"
+	$(BIN)/python -m pytest -n $(MAIN_JOBS) --dist loadgroup -m "not ros $(BESIDE)"
 
 test-python38: venv38
 	$(VENV38)/bin/python -m pytest -n $(JOBS) --dist loadgroup -m "not slow and not ros and not one_python $(BESIDE)" \
