@@ -161,7 +161,13 @@ def test_the_state_is_latched_with_transient_local_durability(face):
         assert "emotion" in json.loads(late.wait_for())  # nothing was sent: it was kept for us
         from rclpy.qos import DurabilityPolicy
 
-        (offered,) = latecomer.node.get_publishers_info_by_topic("/baxter_face/state")
+        # Discovery may tell of the publisher before it tells whose it is: wait for its name.
+        deadline = time.monotonic() + 20
+        while True:
+            (offered,) = latecomer.node.get_publishers_info_by_topic("/baxter_face/state")
+            if offered.node_name != "_NODE_NAME_UNKNOWN_" or time.monotonic() > deadline:
+                break
+            time.sleep(0.05)
         assert offered.qos_profile.durability == DurabilityPolicy.TRANSIENT_LOCAL
         assert offered.node_name == "baxter_face"
     finally:
