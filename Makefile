@@ -55,12 +55,15 @@ $(VENV)/.studio: $(VENV)/.play
 	$(BIN)/pip install $(PIP_OPTS) -e '.[$(STUDIO_EXTRAS)]'
 	touch $@
 
-$(VENV)/.installed: $(VENV)/.play
+# The full one in one install (one resolve rather than one after another); it holds what `make
+# play` and `make studio` need too.
+$(VENV)/.installed: pyproject.toml
+	$(PYTHON) -m venv $(VENV)
 	$(BIN)/pip install $(PIP_OPTS) -e '.[$(EXTRAS)]'
 	@# ROS 2's rosidl_parser wheel needs lark-parser, lark's old name, whose files land on lark's own
 	@# when it comes later: put lark's back.
 	$(BIN)/pip install $(PIP_OPTS) --force-reinstall --no-deps 'lark>=1.1.5,<2'
-	touch $@
+	touch $(VENV)/.play $(VENV)/.studio $@
 
 # Pinned to versions known to work on 3.8: unpinned, pip backtracks through old releases for half
 # an hour there.
@@ -102,27 +105,27 @@ format: venv
 	$(BIN)/ruff check --fix .
 	$(BIN)/ruff format .
 
-# From nothing: each suite starts as soon as its own environment is installed (the three install
-# side by side, mostly waiting on the registry), and the three run side by side, each printed
-# whole when it ends: the 3.11 suite (after the lint), the 3.8 one and the ROS one, each spread
-# over the cores by pytest-xdist.
+# From nothing: Debian's packages and the three environments install side by side (only the ROS
+# one waits for Debian's), each suite starts as soon as its own environment and Debian's packages
+# are in, and the three run side by side, each printed whole when it ends: the 3.11 suite (after
+# the lint), the 3.8 one and the ROS one, each spread over the cores by pytest-xdist.
 # Then the few tests that hear or see real time (marked `realtime`: sound heard to the sample as
 # its frame shows) run alone under each Python, on a machine no other test is loading.
-test: system
+test:
 	$(MAKE) --no-print-directory -j3 --output-sync=target test-python test-python38 test-ros \
 		BESIDE="and not realtime"
 	$(MAKE) --no-print-directory test-realtime
 
-test-python: lint
+test-python: lint system
 	$(BIN)/python -m pytest -n $(MAIN_JOBS) --dist loadgroup -m "not ros $(BESIDE)"
 
-test-python38: venv38
+test-python38: venv38 system
 	$(VENV38)/bin/python -m pytest -n $(JOBS) --dist loadgroup -m "not slow and not ros and not one_python $(BESIDE)" \
 		-p no:cacheprovider
 
 # Only the files that hold such tests are collected: collecting all costs each Python seconds.
 REALTIME_FILES = $(shell grep -rl "mark.realtime" tests)
-test-realtime: venv venv38
+test-realtime: venv venv38 system
 	$(BIN)/python -m pytest -m "realtime and not ros" -p no:cacheprovider $(REALTIME_FILES)
 	$(VENV38)/bin/python -m pytest -m "realtime and not slow and not ros and not one_python" -p no:cacheprovider \
 		$(REALTIME_FILES)
