@@ -31,6 +31,13 @@ PIP_OPTS := --quiet --disable-pip-version-check --no-compile
 # ...and kept: with PYTHONDONTWRITEBYTECODE set (as some CI images do), every process of the tests
 # compiled every module it imported again, 1.4 s of a 2.4 s `render` to PNG.
 unexport PYTHONDONTWRITEBYTECODE
+# The tests' two pyenv environments are installed by uv (from PyPI, into a folder of its own): the
+# same versions pip picks, in a fifth of the time (9 s against 48 for the 3.11 one, from nothing).
+# The ROS one stays with pip, which leaves Debian's packages seen through it (NumPy) alone.
+UV_DIR := .uv
+UV := $(UV_DIR)/bin/uv
+UV_OPTS := --quiet --no-compile
+export UV_NATIVE_TLS := 1
 # pytest workers for each Python suite (they run beside each other and the ROS suite); the 3.11
 # suite, the longest, has one more, so that it keeps both cores busy once the others are done
 JOBS ?= 2
@@ -57,20 +64,24 @@ $(VENV)/.studio: $(VENV)/.play
 
 # The full one in one install (one resolve rather than one after another); it holds what `make
 # play` and `make studio` need too.
-$(VENV)/.installed: pyproject.toml
+$(VENV)/.installed: pyproject.toml | $(UV)
 	$(PYTHON) -m venv $(VENV)
-	$(BIN)/pip install $(PIP_OPTS) -e '.[$(EXTRAS)]'
-	@# ROS 2's rosidl_parser wheel needs lark-parser, lark's old name, whose files land on lark's own
-	@# when it comes later: put lark's back.
-	$(BIN)/pip install $(PIP_OPTS) --force-reinstall --no-deps 'lark>=1.1.5,<2'
+	$(UV) pip install $(UV_OPTS) --python $(BIN)/python -e '.[$(EXTRAS)]'
+	@# ROS 2's rosidl_parser wheel needs lark-parser, lark's old name, whose files land on lark's own:
+	@# put lark's back.
+	$(UV) pip install $(UV_OPTS) --python $(BIN)/python --reinstall --no-deps 'lark>=1.1.5,<2'
 	touch $(VENV)/.play $(VENV)/.studio $@
+
+$(UV):
+	$(PYTHON) -m venv $(UV_DIR)
+	$(UV_DIR)/bin/pip install $(PIP_OPTS) 'uv>=0.4'
 
 # Pinned to versions known to work on 3.8: unpinned, pip backtracks through old releases for half
 # an hour there.
-$(VENV38)/.installed: pyproject.toml .ci/constraints-py38.txt
+$(VENV38)/.installed: pyproject.toml .ci/constraints-py38.txt | $(UV)
 	@test -n "$(PY38)" || { echo "make: no Python 3.8 found (looked in ~/.pyenv/versions/3.8*); set PY38=/path/to/python3.8"; exit 1; }
 	$(PY38) -m venv $(VENV38)
-	$(VENV38)/bin/pip install $(PIP_OPTS) -c .ci/constraints-py38.txt -e '.[$(EXTRAS)]'
+	$(UV) pip install $(UV_OPTS) --python $(VENV38)/bin/python -c .ci/constraints-py38.txt -e '.[$(EXTRAS)]'
 	touch $@
 
 # The ROS tests' environment: sees Debian's ROS packages, adds only what they lack.
@@ -181,4 +192,4 @@ editor:
 	cd baxterface_cli/studio/web && npm ci --no-audit --no-fund && npm run build
 
 clean:
-	rm -rf $(VENV) $(VENV38) $(VENV_ROS) .pytest_cache .hypothesis .ruff_cache build dist
+	rm -rf $(VENV) $(VENV38) $(VENV_ROS) $(UV_DIR) .pytest_cache .hypothesis .ruff_cache build dist
