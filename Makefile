@@ -19,6 +19,9 @@ ROS_PACKAGES := ros-core python3-rospy python3-cv-bridge python3-sensor-msgs pyt
 # What `make play` needs to be heard: espeak-ng speaks `say`, PortAudio is the sound device.
 PLAY_PACKAGES := espeak-ng libespeak-ng1 libportaudio2
 TEST_PACKAGES := $(ROS_PACKAGES) $(PLAY_PACKAGES) python3-venv xvfb ffmpeg sox chromium chromium-driver
+# Only what the packages need, not what they recommend (296 packages rather than 428); on CI, whose
+# machine is thrown away, dpkg does not wait for each file to reach the disk (61 s in all, from 88).
+APT_OPTS := --no-install-recommends $(if $(CI),-o Dpkg::Options::=--force-unsafe-io)
 # `make play` installs what playing needs; `make studio` adds the studio; the tests take everything.
 PLAY_EXTRAS := speech
 STUDIO_EXTRAS := speech,studio
@@ -99,13 +102,13 @@ system:
 		command -v sox >/dev/null 2>&1 && command -v chromedriver >/dev/null 2>&1 && \
 		ls /usr/lib/*/libportaudio.so.2 >/dev/null 2>&1 || { \
 		$(SUDO) apt-get update -qq && \
-		$(SUDO) env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $(TEST_PACKAGES) >/dev/null; }
+		$(SUDO) env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $(APT_OPTS) $(TEST_PACKAGES) >/dev/null; }
 
 # What `make play` needs to be heard; a machine where it cannot be installed plays the show silently.
 system-play:
 	@command -v espeak-ng >/dev/null 2>&1 && ls /usr/lib/*/libportaudio.so.2 >/dev/null 2>&1 || { \
 		$(SUDO) apt-get update -qq && \
-		$(SUDO) env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $(PLAY_PACKAGES) >/dev/null; } || \
+		$(SUDO) env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $(APT_OPTS) $(PLAY_PACKAGES) >/dev/null; } || \
 		echo "make: could not install $(PLAY_PACKAGES); the show plays, but says nothing"
 
 lint: venv
