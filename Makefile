@@ -34,6 +34,9 @@ PIP_OPTS := --quiet --disable-pip-version-check --no-compile
 # ...and kept: with PYTHONDONTWRITEBYTECODE set (as some CI images do), every process of the tests
 # compiled every module it imported again, 1.4 s of a 2.4 s `render` to PNG.
 unexport PYTHONDONTWRITEBYTECODE
+# The face does no linear algebra; OpenBLAS's threads would only spin in every process the tests
+# start, on a machine whose cores the three suites already fill (the command line sets it too).
+export OPENBLAS_NUM_THREADS := 1
 # The tests' two pyenv environments are installed by uv (from PyPI, into a folder of its own): the
 # same versions pip picks, in a fifth of the time (9 s against 48 for the 3.11 one, from nothing).
 # The ROS one stays with pip, which leaves Debian's packages seen through it (NumPy) alone.

@@ -5,6 +5,12 @@ with its kin (script_commands, play_command, ros_commands, studio_command,
 screen_command, asset_commands) and is registered here, in the order `--help` lists them.
 """
 
+import os
+
+# The face does no linear algebra: OpenBLAS's threads, which numpy starts on import, would only
+# spin (0.1 to 0.25 s of CPU at every `baxterface` command). Set before anything imports numpy.
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
 import typer
 
 from .app import ROS_ARGS, app, main
