@@ -18,7 +18,7 @@ ROS_PACKAGES := ros-core python3-rospy python3-cv-bridge python3-sensor-msgs pyt
 # driver load the studio's and the screen's pages in the browser tests.
 # What `make play` needs to be heard: espeak-ng speaks `say`, PortAudio is the sound device.
 PLAY_PACKAGES := espeak-ng libespeak-ng1 libportaudio2
-TEST_PACKAGES := $(ROS_PACKAGES) $(PLAY_PACKAGES) python3-venv xvfb ffmpeg sox chromium chromium-driver
+BASE_PACKAGES := $(PLAY_PACKAGES) python3-venv xvfb ffmpeg sox chromium chromium-driver
 # Only what the packages need, not what they recommend (296 packages rather than 428); on CI, whose
 # machine is thrown away, dpkg does not wait for each file to reach the disk (61 s in all, from 88).
 APT_OPTS := --no-install-recommends $(if $(CI),-o Dpkg::Options::=--force-unsafe-io)
@@ -49,7 +49,7 @@ export UV_NATIVE_TLS := 1
 JOBS ?= 2
 MAIN_JOBS ?= 3
 
-.PHONY: play test test-python test-python38 test-ros test-realtime lint format golden theme pictures bench system system-play venv \
+.PHONY: play test test-python test-python38 test-ros test-realtime lint format golden theme pictures bench system system-base system-play venv \
 	venv-play venv-studio venv38 venv-ros ros clean editor studio
 
 # `venv` is the full one the tests, lint and benchmarks use; play and studio make smaller ones first.
@@ -98,14 +98,21 @@ $(VENV_ROS)/.installed: pyproject.toml | system
 	$(VENV_ROS)/bin/pip install $(PIP_OPTS) -c $(VENV_ROS)/constraints.txt -e '.[$(ROS1_EXTRAS)]'
 	touch $@
 
-# Debian packages: ROS 1 (roscore, rospy, cv_bridge; see ../shared/spec/baxter-ros.md) and Xvfb.
-system:
-	@command -v roscore >/dev/null 2>&1 && command -v Xvfb >/dev/null 2>&1 && \
+# Debian packages: what every suite needs (system-base: Xvfb, ffmpeg, espeak-ng, sox, chromium),
+# then ROS 1 (roscore, rospy, cv_bridge; see ../shared/spec/baxter-ros.md), which only the ROS
+# suite does: the 3.11 and 3.8 suites start without waiting for it.
+system-base:
+	@command -v Xvfb >/dev/null 2>&1 && \
 		command -v ffprobe >/dev/null 2>&1 && command -v espeak-ng >/dev/null 2>&1 && \
 		command -v sox >/dev/null 2>&1 && command -v chromedriver >/dev/null 2>&1 && \
 		ls /usr/lib/*/libportaudio.so.2 >/dev/null 2>&1 || { \
 		$(SUDO) apt-get update -qq && \
-		$(SUDO) env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $(APT_OPTS) $(TEST_PACKAGES) >/dev/null; }
+		$(SUDO) env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $(APT_OPTS) $(BASE_PACKAGES) >/dev/null; }
+
+system: system-base
+	@command -v roscore >/dev/null 2>&1 && command -v rostopic >/dev/null 2>&1 || { \
+		$(SUDO) apt-get update -qq && \
+		$(SUDO) env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $(APT_OPTS) $(ROS_PACKAGES) >/dev/null; }
 
 # What `make play` needs to be heard; a machine where it cannot be installed plays the show silently.
 system-play:
@@ -133,10 +140,10 @@ test:
 		BESIDE="and not realtime"
 	$(MAKE) --no-print-directory test-realtime
 
-test-python: lint system
+test-python: lint system-base
 	$(BIN)/python -m pytest -n $(MAIN_JOBS) --dist loadgroup -m "not ros $(BESIDE)"
 
-test-python38: venv38 system
+test-python38: venv38 system-base
 	$(VENV38)/bin/python -m pytest -n $(JOBS) --dist loadgroup -m "not slow and not ros and not one_python $(BESIDE)" \
 		-p no:cacheprovider
 

@@ -56,6 +56,10 @@ class TerminalScreen:
         self.rows = rows or size.lines
         self.previous: List[str] = []
         self.started = False
+        # The face's rows as last drawn, and the frame they were drawn from: a face that holds
+        # still (most frames of most scripts) costs a comparison, not a resize and 3000 cells.
+        self._frame: Optional[np.ndarray] = None
+        self._face: List[str] = []
 
     def fit(self, frame_size: Tuple[int, int]) -> Tuple[int, int]:
         """Cells across and pixel rows down that keep the face's shape (2 pixels a cell)."""
@@ -68,12 +72,14 @@ class TerminalScreen:
         if not self.started:
             self.out.write("\x1b[?25l\x1b[2J")
             self.started = True
-        w, h = self.fit((frame_bgr.shape[1], frame_bgr.shape[0]))
-        rgb = np.asarray(
-            Image.fromarray(np.ascontiguousarray(frame_bgr[..., ::-1])).resize((w, h), Image.BOX)
-        )
-        lines = [self._row(rgb[y], rgb[y + 1]) for y in range(0, h, 2)]
-        lines.append("\x1b[0m\x1b[2K" + status[: self.columns])
+        if self._frame is None or not np.array_equal(self._frame, frame_bgr):
+            w, h = self.fit((frame_bgr.shape[1], frame_bgr.shape[0]))
+            rgb = np.asarray(
+                Image.fromarray(np.ascontiguousarray(frame_bgr[..., ::-1])).resize((w, h), Image.BOX)
+            )
+            self._face = [self._row(rgb[y], rgb[y + 1]) for y in range(0, h, 2)]
+            self._frame = np.array(frame_bgr)
+        lines = self._face + ["\x1b[0m\x1b[2K" + status[: self.columns]]
         chunks = []
         for i, line in enumerate(lines):
             if i >= len(self.previous) or self.previous[i] != line:  # only rows that changed
