@@ -149,13 +149,15 @@ test-python38: venv38 system-base
 
 # Only the files that hold such tests are collected: collecting all costs each Python seconds.
 REALTIME_FILES = $(shell grep -rl "mark.realtime" tests)
-test-realtime: venv venv38 system
+test-realtime: venv venv38 venv-ros system
 	$(BIN)/python -m pytest -m "realtime and not ros" -p no:cacheprovider $(REALTIME_FILES)
 	$(VENV38)/bin/python -m pytest -m "realtime and not slow and not ros and not one_python" -p no:cacheprovider \
 		$(REALTIME_FILES)
+	$(VENV_ROS)/bin/python -m pytest -m "realtime and ros" -p no:cacheprovider -W ignore::DeprecationWarning \
+		$(REALTIME_FILES)
 
 test-ros: venv-ros
-	$(VENV_ROS)/bin/python -m pytest -n $(JOBS) -m ros -p no:cacheprovider -W ignore::DeprecationWarning
+	$(VENV_ROS)/bin/python -m pytest -n $(JOBS) -m "ros $(BESIDE)" -p no:cacheprovider -W ignore::DeprecationWarning
 
 # Rewrite the golden files (error output, face images) after a deliberate
 # change; review them with `git diff` before committing.

@@ -214,6 +214,7 @@ LISTENER = textwrap.dedent(
 )
 
 
+@pytest.mark.realtime
 def test_rosbag_play_shows_every_frame_on_time(bag, roscore):
     stamps = [t for topic, t, _, _ in read(bag) if topic == "/robot/xdisplay"]
     listener = subprocess.Popen(
@@ -237,11 +238,14 @@ def test_rosbag_play_shows_every_frame_on_time(bag, roscore):
     assert [(seq, stamp, size) for seq, stamp, _, size in got] == [
         (i, t, 1024 * 600 * 3) for i, t in enumerate(stamps)
     ]
-    first = got[0][2]
-    lateness = [(arrived - first) - (stamp - stamps[0]) / NS for _, stamp, arrived, _ in got]
+    # Each frame against the usual delay from script to screen, so that one late frame counts
+    # once and not against every frame after it.
+    offsets = sorted(arrived - stamp / NS for _, stamp, arrived, _ in got)
+    usual = offsets[len(offsets) // 2]
+    lateness = [arrived - stamp / NS - usual for _, stamp, arrived, _ in got]
     print(f"frames arrive {min(lateness) * 1000:+.1f} .. {max(lateness) * 1000:+.1f} ms off the script")
-    # At their times, not all at once. Quiet, they come within -13..+8 ms (goal: one frame,
-    # 33 ms); the bound leaves a busy machine room, since a test must not hang on its speed.
+    # At their times, not all at once. Alone on this machine (the test is `realtime`, so make
+    # test runs it with nothing beside it) they come within about 10 ms (goal: one frame, 33 ms).
     assert max(abs(x) for x in lateness) <= 0.1
 
 
