@@ -37,10 +37,19 @@ os.environ["XDG_CACHE_HOME"] = os.environ["BAXTERFACE_TEST_CACHE"]
 
 
 def pytest_collection_modifyitems(config, items):
-    """The modules that run in one worker (`xdist_group`: a costly fixture made once, or a server
-    of their own) go out first, so the longest runs start early and the rest fill in beside them,
-    rather than one of them running alone at the end."""
-    items.sort(key=lambda item: item.get_closest_marker("xdist_group") is None)
+    """Long runs go out first and short ones fill in beside them, so a suite ends with its
+    workers busy rather than one long run alone: the modules that run in one worker
+    (`xdist_group`: a costly fixture made once, or a server of their own), then the whole-tool
+    tests at the top of tests/ (the docs' and the examples' programs, many played in real time;
+    the wheel), then the rest."""
+    top = ROOT / "tests"
+
+    def order(item) -> int:
+        if item.get_closest_marker("xdist_group") is not None:
+            return 0
+        return 1 if Path(str(item.fspath)).resolve().parent == top else 2
+
+    items.sort(key=order)
 
 
 class Run:
