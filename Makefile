@@ -49,7 +49,7 @@ export UV_NATIVE_TLS := 1
 JOBS ?= 2
 MAIN_JOBS ?= 3
 
-.PHONY: play test test-python test-python38 test-ros test-realtime lint format golden theme pictures bench system system-base system-play venv \
+.PHONY: play test test-python test-python38 test-ros test-realtime test-realtime-sound test-realtime-ros lint format golden theme pictures bench system system-base system-play venv \
 	venv-play venv-studio venv38 venv-ros ros clean editor studio
 
 # `venv` is the full one the tests, lint and benchmarks use; play and studio make smaller ones first.
@@ -134,7 +134,8 @@ format: venv
 # are in, and the three run side by side, each printed whole when it ends: the 3.11 suite (after
 # the lint), the 3.8 one and the ROS one, each spread over the cores by pytest-xdist.
 # Then the few tests that hear or see real time (marked `realtime`: sound heard to the sample as
-# its frame shows) run alone under each Python, on a machine no other test is loading.
+# its frame shows, a bag's frames at their times) run once the suites are done, on a machine no
+# other test is loading.
 test:
 	$(MAKE) --no-print-directory -j3 --output-sync=target test-python test-python38 test-ros \
 		BESIDE="and not realtime"
@@ -149,10 +150,17 @@ test-python38: venv38 system-base
 
 # Only the files that hold such tests are collected: collecting all costs each Python seconds.
 REALTIME_FILES = $(shell grep -rl "mark.realtime" tests)
-test-realtime: venv venv38 venv-ros system
+# The sound device's tests, under each Python in turn, beside the ROS one (a bag played to a
+# listener): they share nothing, and together they load less than one of the two cores.
+test-realtime:
+	$(MAKE) --no-print-directory -j2 --output-sync=target test-realtime-sound test-realtime-ros
+
+test-realtime-sound: venv venv38 system-base
 	$(BIN)/python -m pytest -m "realtime and not ros" -p no:cacheprovider $(REALTIME_FILES)
 	$(VENV38)/bin/python -m pytest -m "realtime and not slow and not ros and not one_python" -p no:cacheprovider \
 		$(REALTIME_FILES)
+
+test-realtime-ros: venv-ros
 	$(VENV_ROS)/bin/python -m pytest -m "realtime and ros" -p no:cacheprovider -W ignore::DeprecationWarning \
 		$(REALTIME_FILES)
 
