@@ -262,11 +262,12 @@ def test_stream_sends_frames_in_real_time(face, ros2):
         "--audio",
         "none",
         "-e",
-        "look 40 0 in 1s",
+        "look 40 0 in 2s",
         env=ros2,
     )
     assert run.code == 0, run.err
-    # In real time, not all at once (a busy machine sends fewer, and its first may come late).
+    # In real time, not all at once (a busy machine sends fewer, and its first may come late;
+    # two seconds, so that some come through when ROS 2 loses frames under load).
     assert paced([t for t, _ in screen.messages])
     assert set(m for _, m in screen.messages) == {"bgr8"}
     screen.close()
