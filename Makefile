@@ -22,6 +22,8 @@ BASE_PACKAGES := $(PLAY_PACKAGES) python3-venv xvfb ffmpeg sox chromium chromium
 # Only what the packages need, not what they recommend (296 packages rather than 428); on CI, whose
 # machine is thrown away, dpkg does not wait for each file to reach the disk (61 s in all, from 88).
 APT_OPTS := --no-install-recommends $(if $(CI),-o Dpkg::Options::=--force-unsafe-io)
+APT_INSTALL := $(SUDO) apt-get update -qq && \
+	$(SUDO) env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $(APT_OPTS)
 # `make play` installs what playing needs; `make studio` adds the studio; the tests take everything.
 PLAY_EXTRAS := speech
 STUDIO_EXTRAS := speech,studio
@@ -106,19 +108,16 @@ system-base:
 		command -v ffprobe >/dev/null 2>&1 && command -v espeak-ng >/dev/null 2>&1 && \
 		command -v sox >/dev/null 2>&1 && command -v chromedriver >/dev/null 2>&1 && \
 		ls /usr/lib/*/libportaudio.so.2 >/dev/null 2>&1 || { \
-		$(SUDO) apt-get update -qq && \
-		$(SUDO) env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $(APT_OPTS) $(BASE_PACKAGES) >/dev/null; }
+		$(APT_INSTALL) $(BASE_PACKAGES) >/dev/null; }
 
 system: system-base
 	@command -v roscore >/dev/null 2>&1 && command -v rostopic >/dev/null 2>&1 || { \
-		$(SUDO) apt-get update -qq && \
-		$(SUDO) env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $(APT_OPTS) $(ROS_PACKAGES) >/dev/null; }
+		$(APT_INSTALL) $(ROS_PACKAGES) >/dev/null; }
 
 # What `make play` needs to be heard; a machine where it cannot be installed plays the show silently.
 system-play:
 	@command -v espeak-ng >/dev/null 2>&1 && ls /usr/lib/*/libportaudio.so.2 >/dev/null 2>&1 || { \
-		$(SUDO) apt-get update -qq && \
-		$(SUDO) env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $(APT_OPTS) $(PLAY_PACKAGES) >/dev/null; } || \
+		$(APT_INSTALL) $(PLAY_PACKAGES) >/dev/null; } || \
 		echo "make: could not install $(PLAY_PACKAGES); the show plays, but says nothing"
 
 lint: venv
@@ -134,8 +133,7 @@ format: venv
 # are in, and the three run side by side, each printed whole when it ends: the 3.11 suite (after
 # the lint), the 3.8 one and the ROS one, each spread over the cores by pytest-xdist.
 # Then the few tests that hear or see real time (marked `realtime`: sound heard to the sample as
-# its frame shows, a bag's frames at their times) run once the suites are done, on a machine no
-# other test is loading.
+# its frame shows, a bag's frames at their times) run once the suites are done (see test-realtime).
 test:
 	$(MAKE) --no-print-directory -j3 --output-sync=target test-python test-python38 test-ros \
 		BESIDE="and not realtime"

@@ -244,8 +244,9 @@ def test_rosbag_play_shows_every_frame_on_time(bag, roscore):
     usual = offsets[len(offsets) // 2]
     lateness = [arrived - stamp / NS - usual for _, stamp, arrived, _ in got]
     print(f"frames arrive {min(lateness) * 1000:+.1f} .. {max(lateness) * 1000:+.1f} ms off the script")
-    # At their times, not all at once. Alone on this machine (the test is `realtime`, so make
-    # test runs it with nothing beside it) they come within about 10 ms (goal: one frame, 33 ms).
+    # At their times, not all at once. On a machine the suites no longer load (the test is
+    # `realtime`: make test runs it after them, beside the sound device's tests only) they come
+    # within about 10 ms (goal: one frame, 33 ms).
     assert max(abs(x) for x in lateness) <= 0.1
 
 
