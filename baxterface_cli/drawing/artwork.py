@@ -12,7 +12,7 @@ them to assets/default/ (the committed theme is exactly this at 1024x600).
 from __future__ import annotations
 
 import math
-from typing import Any, Dict, List, Optional, Sequence, Tuple
+from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 from PIL import Image
@@ -85,8 +85,7 @@ def draw_background(
     shade = np.clip((reach - 0.55) / 0.45, 0.0, 1.0) ** 2
     rim = np.array((214, 214, 226), np.float32)
     rgb = np.array(WHITE, np.float32) * (1.0 - shade[..., None]) + rim * shade[..., None]
-    c.rgba[..., :3] = rgb / 255.0
-    c.rgba[..., 3] = 1.0
+    c.paint_over(rgb / 255.0)
     return c.image()
 
 
@@ -195,8 +194,7 @@ def draw_skin(
     fx = (xs + 0.5 - c.origin[0]) / c.scale - CENTRE_X
     fy = (ys + 0.5 - c.origin[1]) / c.scale - 300.0
     t = np.clip(np.hypot(fx / 620.0, fy / 420.0), 0.0, 1.0) ** 1.6
-    c.rgba[..., :3] = (centre * (1.0 - t[..., None]) + edge * t[..., None]) / 255.0
-    c.rgba[..., 3] = 1.0
+    c.paint_over((centre * (1.0 - t[..., None]) + edge * t[..., None]) / 255.0)
     if sockets:
         holes = Canvas(size, window)  # the sockets' coverage, to cut out of the skin
         for index_of_eye in range(2):
@@ -250,8 +248,13 @@ def draw_mouth(size: Tuple[int, int], name: str) -> Image.Image:
 SPEECH_MOUTHS: Dict[str, str] = {viseme_mouth(shape): shape for shape in VISEMES}
 
 
-def draw_brows_numbers(c: Canvas, e: Expression) -> None:
-    """Both brows of expression `e`: each a stroke through its inner end, middle and outer end."""
+BROW_PEN = 15
+
+
+def brow_strokes(c: Canvas, e: Expression) -> List[Tuple[Callable, Tuple[float, float, float, float]]]:
+    """Both brows of expression `e`, left to right on the screen, as (shape, bounds): each a
+    stroke of BROW_INK through its inner end, middle and outer end. They never overlap."""
+    strokes = []
     for side, robot_side in ((-1, "right"), (1, "left")):
         inner, middle, outer = brow_heights(*(getattr(e, f) for f in BROW_FIELDS[robot_side]))
         cx = CENTRE_X + side * EYE_DX
@@ -261,7 +264,14 @@ def draw_brows_numbers(c: Canvas, e: Expression) -> None:
             return (1 - t) ** 2 * inner + 2 * (1 - t) * t * (2 * middle - (inner + outer) / 2) + t**2 * outer
 
         line = [(x_inner + (x_outer - x_inner) * i / 40, y_at(i / 40)) for i in range(41)]
-        c.shape(stroke(line, 15, c), bounds_of(line, 15), BROW_INK)
+        strokes.append((stroke(line, BROW_PEN, c), bounds_of(line, BROW_PEN)))
+    return strokes
+
+
+def draw_brows_numbers(c: Canvas, e: Expression) -> None:
+    """Both brows of expression `e` on canvas `c`."""
+    for shape, bounds in brow_strokes(c, e):
+        c.shape(shape, bounds, BROW_INK)
 
 
 def brows_window(e: Expression) -> Tuple[float, float, float, float]:

@@ -21,8 +21,9 @@ from ..core.expression import BROW_FIELDS, MOUTH_FIELDS, SKIN_FIELDS, Expression
 from ..core.face_state import Parts
 from ..core.presets import from_parts
 from .artwork import (
+    BROW_INK,
+    brow_strokes,
     brows_window,
-    draw_brows_numbers,
     draw_lid,
     draw_lower_lid,
     draw_pupil,
@@ -37,7 +38,7 @@ from .eye_sizes import LARGEST, EyeSizes, patched
 from .mouth_drawing import draw_mouth_numbers, mouth_window
 from .palette_store import kept_palette
 from .skin_mixing import TINTS, SkinPalette, mixed_colour, skin_weights
-from .vector_shapes import Canvas
+from .vector_shapes import Canvas, Color
 
 KEPT = 48  # drawn parts kept per kind: a morph's worth, and every speech shape
 STEPS = 256  # mouth and brow numbers are rounded to 1/STEPS: under half a face pixel
@@ -157,6 +158,25 @@ def _drawn_sprite(size: Size, window: Tuple[float, ...], draw: Callable[[Canvas]
     return sprite
 
 
+def _ink_sprite(canvas: Canvas, color: Color, shapes: List[Tuple[Callable, Tuple[float, ...]]]) -> Sprite:
+    """Shapes of one opaque colour that never overlap, as a sprite: what drawing them on
+    `canvas` (`_drawn_sprite`) gives, without the float layer. Their coverage is the alpha."""
+    alpha = np.zeros(canvas.rgba.shape[:2], np.uint8)
+    cx, cy = canvas.corner
+    for shape, bounds in shapes:
+        drawn = canvas.coverage(shape, bounds)
+        if drawn is not None:
+            small, (x0, y0, x1, y1) = drawn
+            region = alpha[y0 - cy : y1 - cy, x0 - cx : x1 - cx]
+            np.maximum(region, small, out=region)  # apart, so the same as laying one over another
+    rows, cols = np.flatnonzero(alpha.any(axis=1)), np.flatnonzero(alpha.any(axis=0))
+    if rows.size == 0:  # nothing drawn: as `_drawn_sprite` gives
+        return _drawn_sprite(canvas.limit, (0, 0, 0, 0), lambda c: None)
+    a = alpha[rows[0] : rows[-1] + 1, cols[0] : cols[-1] + 1, None].astype(np.uint16)
+    bgr = np.array(color[::-1], np.uint16)
+    return Sprite(cx + int(cols[0]), cy + int(rows[0]), a * bgr, np.repeat(255 - a, 3, axis=2))
+
+
 class DrawnParts:
     """Keys for an expression's parts, and the books that draw them, at one screen size."""
 
@@ -241,7 +261,8 @@ class DrawnParts:
 
     def _brows(self, key: Hashable) -> Sprite:
         e = _expression(_BROWS, key.numbers, STEPS)  # type: ignore[attr-defined]
-        return _drawn_sprite(self.size, brows_window(e), lambda c: draw_brows_numbers(c, e))
+        canvas = Canvas(self.size, brows_window(e))  # its float layer unused: zeros cost nothing
+        return _ink_sprite(canvas, BROW_INK, brow_strokes(canvas, e))
 
     def _skin(self, key: Hashable) -> Sprite:
         """A skin between the named ones (drawing/skin_mixing.py), its sockets cut for eyes of

@@ -42,9 +42,16 @@ class Canvas:
             self.limit = (min(self.width, int(math.ceil(sx1))), min(self.height, int(math.ceil(sy1))))
         w, h = max(0, self.limit[0] - self.corner[0]), max(0, self.limit[1] - self.corner[1])
         self.rgba = np.zeros((h, w, 4), np.float32)
+        self._blank = True  # nothing painted yet
 
     def to_screen(self, x: float, y: float) -> Point:
         return self.origin[0] + x * self.scale, self.origin[1] + y * self.scale
+
+    def paint_over(self, rgb: np.ndarray) -> None:
+        """Cover the whole layer, opaque, with colours `rgb` (0..1 floats, shaped as the layer)."""
+        self.rgba[..., :3] = rgb
+        self.rgba[..., 3] = 1.0
+        self._blank = False
 
     def fill(
         self, color: Color, coverage: np.ndarray, box: Tuple[int, int, int, int], opacity: float = 1.0
@@ -55,6 +62,10 @@ class Canvas:
         src = np.array([*color, 255], np.float32) / 255.0
         cx, cy = self.corner
         region = self.rgba[y0 - cy : y1 - cy, x0 - cx : x1 - cx]
+        if self._blank:  # over nothing: what the general step gives, in one pass
+            np.multiply(src, a, out=region)
+            self._blank = False
+            return
         region *= 1.0 - a
         region += src * a
 
@@ -70,6 +81,19 @@ class Canvas:
 
         With `clip`, only where that shape is drawn too: a tongue or teeth kept inside a mouth.
         """
+        drawn = self.coverage(draw, bounds, clip)
+        if drawn is not None:
+            small, box = drawn
+            self.fill(color, np.asarray(small, np.float32) / 255.0, box, opacity)
+
+    def coverage(
+        self,
+        draw: Callable[[ImageDraw.ImageDraw, Callable[..., Point]], None],
+        bounds: Sequence[float],
+        clip: Optional[Callable[[ImageDraw.ImageDraw, Callable[..., Point]], None]] = None,
+    ) -> Optional[Tuple[np.ndarray, Tuple[int, int, int, int]]]:
+        """A shape's coverage, 0..255 (uint8), and the screen box it covers inside the layer;
+        None where that box is empty. Drawn with PIL at 4x, then box-filtered down."""
         fx0, fy0, fx1, fy1 = bounds
         sx0, sy0 = self.to_screen(fx0, fy0)
         sx1, sy1 = self.to_screen(fx1, fy1)
@@ -77,7 +101,7 @@ class Canvas:
         y0 = max(self.corner[1], int(math.floor(sy0)) - 1)
         x1, y1 = min(self.limit[0], int(math.ceil(sx1)) + 1), min(self.limit[1], int(math.ceil(sy1)) + 1)
         if x1 <= x0 or y1 <= y0:
-            return
+            return None
         k = SUPERSAMPLE
         mask = Image.new("L", ((x1 - x0) * k, (y1 - y0) * k), 0)
 
@@ -91,8 +115,7 @@ class Canvas:
             clip(ImageDraw.Draw(inside), point)
             mask = ImageChops.multiply(mask, inside)
         small = mask.resize((x1 - x0, y1 - y0), Image.BOX)
-        coverage = np.asarray(small, np.float32) / 255.0
-        self.fill(color, coverage, (x0, y0, x1, y1), opacity)
+        return np.asarray(small), (x0, y0, x1, y1)
 
     def pen(self, width: float) -> int:
         """A stroke width in face units, as 4x mask pixels."""
@@ -121,9 +144,14 @@ class Canvas:
 def _straight(rgba: np.ndarray) -> np.ndarray:
     """Premultiplied float RGBA as straight-alpha uint8."""
     alpha = rgba[..., 3:4]
-    rgb = np.where(alpha > 0, rgba[..., :3] / np.maximum(alpha, 1e-6), 0.0)
-    out = np.concatenate([rgb, alpha], axis=2)
-    return np.clip(out * 255.0 + 0.5, 0, 255).astype(np.uint8)
+    out = np.empty(rgba.shape, np.float32)
+    # Where nothing was painted the colour is 0 as well as the alpha, so 0 / 1e-6 is 0 there.
+    np.divide(rgba[..., :3], np.maximum(alpha, np.float32(1e-6)), out=out[..., :3])
+    out[..., 3:] = alpha
+    out *= np.float32(255.0)
+    out += np.float32(0.5)
+    np.clip(out, 0, 255, out=out)
+    return out.astype(np.uint8)
 
 
 def ellipse(cx: float, cy: float, rx: float, ry: float) -> Callable:
