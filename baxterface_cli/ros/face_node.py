@@ -31,6 +31,7 @@ from ..core.tables import BROWS, MOUTHS, SKINS
 from ..drawing.renderer import Renderer
 from ..engine.backlog import Backlog
 from ..engine.effects import Speech
+from ..engine.first_motion import FirstMotion
 from ..engine.intake import Intake
 from ..engine.live_face import LiveFace, sleep_face
 from ..robot.camera_watch import CameraWatch
@@ -43,9 +44,6 @@ from .robot_link import WARN_EVERY, connect_robot
 from .speakers import UnknownAudio, default_audio, open_speaker
 
 STATE_EVERY = 0.1  # seconds between ~state messages while the face moves
-# After a command, the next frame comes this soon rather than at the next
-# tick: a move that starts now shows its first motion within ~10 ms.
-FIRST_MOTION = 0.010
 # The loop takes the GIL back several times a frame from threads that parse
 # commands and receive messages; each time it may wait a whole switch
 # interval (5 ms by default). 1 ms halved the worst frame gap under a flood.
@@ -124,6 +122,7 @@ class FaceNode:
         self.intake = Intake(self.live, time.monotonic, ready=self.wake.set)
         self.last_key: Any = None
         self.last_frame_at = -math.inf
+        self.first_motion = FirstMotion()  # after a command, looked at often until it shows
         self.last_state_text = ""
         self.last_state_at = -math.inf
 
@@ -240,17 +239,19 @@ class FaceNode:
                 break
             # The cap: frames at most `fps` a second (a little slack for a
             # tick that comes early; ticks themselves keep the average).
-            if now >= self.last_frame_at + 0.75 * period:
-                self._publish_frame(state, now)
+            if now >= self.last_frame_at + 0.75 * period and self._publish_frame(state, now):
+                self.first_motion.shown()
             self._publish_state(state, now)
-            # Ticks keep their own rhythm, publishing or not; a late loop
-            # skips the ticks it missed rather than hurrying to catch up.
-            next_tick += period
-            if next_tick < now:
-                next_tick = now + period
+            # Ticks keep their own rhythm, publishing or not, whatever woke the loop
+            # between them; a late loop skips the ticks it missed rather than hurrying.
+            if now >= next_tick:
+                next_tick += period
+                if next_tick < now:
+                    next_tick = now + period
             if took:
-                next_tick = min(next_tick, now + FIRST_MOTION)
-            self.wake.wait(max(0.0, next_tick - time.monotonic()))  # or until a command comes
+                self.first_motion.heard(now)
+            wake_at = self.first_motion.next_look(next_tick, now)
+            self.wake.wait(max(0.0, wake_at - time.monotonic()))  # or until a command comes
             self.wake.clear()
         self.intake.close()
         self.log.flush(timeout=0.3)
@@ -267,13 +268,15 @@ class FaceNode:
             self.speaker.stop()
         return bool(took)
 
-    def _publish_frame(self, state: FaceState, now: float, force: bool = False) -> None:
+    def _publish_frame(self, state: FaceState, now: float, force: bool = False) -> bool:
+        """Publish the frame of `state` if it changed (or `force`); True if one went out."""
         key = self.renderer.frame_key(state)
         if key == self.last_key and not force:
-            return
+            return False
         frame = self.renderer.render(state)
         self.image_pub.publish(**image_fields(frame))
         self.last_key, self.last_frame_at = key, now
+        return True
 
     def _publish_state(self, state: FaceState, now: float, force: bool = False) -> None:
         if now - self.last_state_at < STATE_EVERY and not force:

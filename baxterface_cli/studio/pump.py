@@ -20,15 +20,11 @@ from typing import Any, Callable, Dict, List, Optional, Protocol, Set
 import numpy as np
 
 from ..drawing.renderer import Renderer
+from ..engine.first_motion import FirstMotion
 
 STATUS_EVERY = 0.1  # seconds between status messages to the page
 DISK_EVERY = 0.5  # seconds between looks at the script and the panel on disk
 JPEG_QUALITY = 85
-# After a command, the face is looked at this often until it changes, rather than at the next tick:
-# a move that starts now shows its first motion within ~10 ms (as the face node does), for at most
-# EAGER_FOR seconds (a command that changes nothing for a while costs no more than that).
-FIRST_MOTION = 0.010
-EAGER_FOR = 0.25
 
 
 def logger(command: str) -> Callable[[str], None]:
@@ -143,13 +139,13 @@ class Pump:
         shown, pages = self.shown, self.pages
         period = 1.0 / self.fps
         tick = time.monotonic()
-        eager_until = 0.0  # after a command: looked at every FIRST_MOTION until it shows
+        first_motion = FirstMotion()  # after a command (as the face node): looked at often until it shows
         last_status = last_disk = 0.0
         drawn: Any = None
         heard: Any = []
         while True:
             now = time.monotonic()
-            at = min(tick, now + FIRST_MOTION) if now < eager_until else tick
+            at = first_motion.next_look(tick, now)
             woken = False
             with contextlib.suppress(asyncio.TimeoutError):
                 await asyncio.wait_for(self._wake.wait(), timeout=max(0.0, at - now))
@@ -157,7 +153,7 @@ class Pump:
             self._wake.clear()
             now = time.monotonic()
             if woken:
-                eager_until = now + EAGER_FOR
+                first_motion.heard(now)
             if now >= tick:
                 # Ticks keep their own rhythm, however long a frame took; a late pump skips the
                 # ticks it missed rather than hurrying to catch up.
@@ -169,7 +165,8 @@ class Pump:
                 key = self.frames.key(face)  # a new state may still draw the same frame: none is sent
                 if pages.queues and key != drawn:
                     pages.send(await run_in_threadpool(self.frames.jpeg, face))
-                    drawn, eager_until = key, 0.0
+                    drawn = key
+                    first_motion.shown()
                 status = shown.status()
                 # A sound that starts or stops is told at once: the page plays it in step with the frames.
                 if now - last_status >= self.status_every or status["sounds"] != heard:
