@@ -41,7 +41,7 @@ class Codec(NamedTuple):
 
 
 # x264's motion search at its cheapest (diamond, one refinement): a face's shapes move little
-# between frames, so the picture is as good (PSNR within 0.05 dB, 5 % larger) and a frame that
+# between frames, so the picture is as good (PSNR within 0.06 dB, 5 % larger) and a frame that
 # changes everywhere, as a mood's skin does, encodes in 0.7 of the time (bench/bench_expression.py).
 X264_SEARCH = "me=dia:subme=1"
 
