@@ -21,6 +21,7 @@ from baxterface_cli.ros.connect import open_link
 from conftest import ROOT, baxterface, needs
 from playing import paced
 from ros2_world import Heard
+from waiting import eventually
 
 pytestmark = [pytest.mark.ros2, pytest.mark.xdist_group("ros2_node")]
 
@@ -162,12 +163,11 @@ def test_the_state_is_latched_with_transient_local_durability(face):
         from rclpy.qos import DurabilityPolicy
 
         # Discovery may tell of the publisher before it tells whose it is: wait for its name.
-        deadline = time.monotonic() + 20
-        while True:
+        def named():
             (offered,) = latecomer.node.get_publishers_info_by_topic("/baxter_face/state")
-            if offered.node_name != "_NODE_NAME_UNKNOWN_" or time.monotonic() > deadline:
-                break
-            time.sleep(0.05)
+            return offered if offered.node_name != "_NODE_NAME_UNKNOWN_" else None
+
+        offered = eventually(named, timeout=20)
         assert offered.qos_profile.durability == DurabilityPolicy.TRANSIENT_LOCAL
         assert offered.node_name == "baxter_face"
     finally:

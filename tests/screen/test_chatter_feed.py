@@ -4,11 +4,11 @@ from __future__ import annotations
 
 import signal
 import subprocess
-import time
 
 import pytest
 
 from studio_server import running_screen
+from waiting import eventually
 
 pytestmark = pytest.mark.ros
 
@@ -22,14 +22,6 @@ def publish(env, text, topic="/display_chatter"):
         timeout=60,
         stdout=subprocess.DEVNULL,
     )
-
-
-def eventually(check, timeout=30.0):
-    deadline = time.monotonic() + timeout
-    while not (value := check()):
-        assert time.monotonic() < deadline, "waited in vain"
-        time.sleep(0.05)
-    return value
 
 
 def test_display_chatter_plays_on_the_screen_and_a_bad_command_is_logged(roscore, tmp_path):

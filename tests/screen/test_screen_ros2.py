@@ -2,18 +2,9 @@
 
 from __future__ import annotations
 
-import time
-
 from baxterface_cli.ros.connect import open_link
 from studio_server import running_screen
-
-
-def eventually(check, timeout=30.0):
-    deadline = time.monotonic() + timeout
-    while not (value := check()):
-        assert time.monotonic() < deadline, "waited in vain"
-        time.sleep(0.05)
-    return value
+from waiting import eventually
 
 
 def test_display_chatter_on_ros_2_plays_on_the_screen_and_a_bad_command_is_logged(ros2, tmp_path):

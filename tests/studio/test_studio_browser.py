@@ -4,12 +4,12 @@ from __future__ import annotations
 
 import re
 import subprocess
-import time
 
 import pytest
 
 from browser import chromium, errors_in_console, wait_for
 from studio_server import baxterface, running_studio
+from waiting import eventually
 
 # The page's own scripts, in a browser: the same whichever Python serves them (the servers are tested
 # under every Python by tests/studio/test_studio.py).
@@ -208,17 +208,6 @@ def face_now(studio):
     code, state = studio.json("GET", "/api/state")
     assert code == 200
     return state["status"]["face"]
-
-
-def eventually(check, timeout=30.0):
-    """`check()` once it is truthy (asked every 50 ms for up to `timeout` seconds)."""
-    deadline = time.monotonic() + timeout
-    while True:
-        value = check()
-        if value:
-            return value
-        assert time.monotonic() < deadline, "waited in vain"
-        time.sleep(0.05)
 
 
 def session_commands(studio):
