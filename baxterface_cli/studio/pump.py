@@ -161,17 +161,20 @@ class Pump:
                 if tick < now:
                     tick = now + period
             try:
-                face = shown.face()
-                key = self.frames.key(face)  # a new state may still draw the same frame: none is sent
-                if pages.queues and key != drawn:
-                    pages.send(await run_in_threadpool(self.frames.jpeg, face))
-                    drawn = key
-                    first_motion.shown()
-                status = shown.status()
-                # A sound that starts or stops is told at once: the page plays it in step with the frames.
-                if now - last_status >= self.status_every or status["sounds"] != heard:
-                    pages.send(status)
-                    last_status, heard = now, status["sounds"]
+                # With no page open nothing is looked at: a page that opens is sent the face as it is
+                # then (face_api.py), as the first page always was, before the pump started.
+                if pages.queues:
+                    face = shown.face()
+                    key = self.frames.key(face)  # a new state may still draw the same frame: none is sent
+                    if key != drawn:
+                        pages.send(await run_in_threadpool(self.frames.jpeg, face))
+                        drawn = key
+                        first_motion.shown()
+                    status = shown.status()
+                    # A sound that starts or stops is told at once: the page plays it in step with the frames.
+                    if now - last_status >= self.status_every or status["sounds"] != heard:
+                        pages.send(status)
+                        last_status, heard = now, status["sounds"]
                 if self.watch is not None and now - last_disk >= DISK_EVERY:
                     last_disk = now
                     for change in await run_in_threadpool(self.watch):
