@@ -153,9 +153,16 @@ def _drawn_sprite(size: Size, window: Tuple[float, ...], draw: Callable[[Canvas]
     canvas = Canvas(size, window)
     draw(canvas)
     sprite = sprite_from_rgba(*canvas.visible()) if canvas.rgba.size else None
-    if sprite is None:  # nothing drawn: one transparent pixel, as an empty layer of a theme
-        return Sprite(0, 0, np.zeros((1, 1, 3), np.uint16), np.full((1, 1, 3), 255, np.uint16))
+    return _NOTHING if sprite is None else sprite
+
+
+def _transparent_pixel() -> Sprite:
+    sprite = Sprite(0, 0, np.zeros((1, 1, 3), np.uint16), np.full((1, 1, 3), 255, np.uint16))
+    sprite.rgb_a.flags.writeable = sprite.inv.flags.writeable = False  # one, shared
     return sprite
+
+
+_NOTHING = _transparent_pixel()  # nothing drawn: as an empty layer of a theme
 
 
 def _ink_sprite(canvas: Canvas, color: Color, shapes: List[Tuple[Callable, Tuple[float, ...]]]) -> Sprite:
@@ -170,8 +177,8 @@ def _ink_sprite(canvas: Canvas, color: Color, shapes: List[Tuple[Callable, Tuple
             region = alpha[y0 - cy : y1 - cy, x0 - cx : x1 - cx]
             np.maximum(region, small, out=region)  # apart, so the same as laying one over another
     rows, cols = np.flatnonzero(alpha.any(axis=1)), np.flatnonzero(alpha.any(axis=0))
-    if rows.size == 0:  # nothing drawn: as `_drawn_sprite` gives
-        return _drawn_sprite(canvas.limit, (0, 0, 0, 0), lambda c: None)
+    if rows.size == 0:
+        return _NOTHING
     a = alpha[rows[0] : rows[-1] + 1, cols[0] : cols[-1] + 1, None].astype(np.uint16)
     bgr = np.array(color[::-1], np.uint16)
     return Sprite(cx + int(cols[0]), cy + int(rows[0]), a * bgr, np.repeat(255 - a, 3, axis=2))
