@@ -50,18 +50,22 @@ class Sprite(NamedTuple):
 
 def sprite_from_rgba(rgba: np.ndarray, x: int = 0, y: int = 0) -> Optional[Sprite]:
     """Crop an (h, w, 4) RGBA uint8 array to its visible pixels; None if it has none."""
-    alpha = rgba[..., 3]
+    return sprite_of(rgba[..., 3], rgba[..., 2::-1], x, y)
+
+
+def sprite_of(alpha: np.ndarray, bgr: np.ndarray, x: int = 0, y: int = 0) -> Optional[Sprite]:
+    """A sprite of `alpha` (h, w) and straight colour `bgr`, uint8: (h, w, 3), or one (3,)
+    colour throughout; cropped to its visible pixels, None if it has none."""
     rows = np.flatnonzero(alpha.any(axis=1))
     cols = np.flatnonzero(alpha.any(axis=0))
     if rows.size == 0:
         return None
     r0, r1, c0, c1 = rows[0], rows[-1] + 1, cols[0], cols[-1] + 1
-    crop = rgba[r0:r1, c0:c1]
-    a = crop[..., 3:4].astype(np.uint16)
-    bgr = crop[..., 2::-1].astype(np.uint16)
+    a = alpha[r0:r1, c0:c1, None].astype(np.uint16)
+    colour = (bgr[r0:r1, c0:c1] if bgr.ndim == 3 else bgr).astype(np.uint16)
     # 255 - alpha is stored per channel: numpy multiplies (h, w, 3) by
     # (h, w, 3) many times faster than by a broadcast (h, w, 1).
-    return Sprite(x + int(c0), y + int(r0), bgr * a, np.repeat(255 - a, 3, axis=2))
+    return Sprite(x + int(c0), y + int(r0), colour * a, np.repeat(255 - a, 3, axis=2))
 
 
 def split_columns(sprite: Sprite) -> list:

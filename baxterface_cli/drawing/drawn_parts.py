@@ -33,7 +33,7 @@ from .artwork import (
     lower_lid_window,
     pupil_window,
 )
-from .compositing import Rect, Sprite, alike_rows, div255, sprite_from_rgba
+from .compositing import Rect, Sprite, alike_rows, div255, sprite_from_rgba, sprite_of
 from .eye_sizes import LARGEST, EyeSizes, patched
 from .mouth_drawing import draw_mouth_numbers, mouth_window
 from .palette_store import kept_palette
@@ -176,12 +176,8 @@ def _ink_sprite(canvas: Canvas, color: Color, shapes: List[Tuple[Callable, Tuple
             small, (x0, y0, x1, y1) = drawn
             region = alpha[y0 - cy : y1 - cy, x0 - cx : x1 - cx]
             np.maximum(region, small, out=region)  # apart, so the same as laying one over another
-    rows, cols = np.flatnonzero(alpha.any(axis=1)), np.flatnonzero(alpha.any(axis=0))
-    if rows.size == 0:
-        return _NOTHING
-    a = alpha[rows[0] : rows[-1] + 1, cols[0] : cols[-1] + 1, None].astype(np.uint16)
-    bgr = np.array(color[::-1], np.uint16)
-    return Sprite(cx + int(cols[0]), cy + int(rows[0]), a * bgr, np.repeat(255 - a, 3, axis=2))
+    sprite = sprite_of(alpha, np.array(color[::-1], np.uint8), cx, cy)
+    return _NOTHING if sprite is None else sprite
 
 
 class DrawnParts:
