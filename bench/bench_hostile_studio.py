@@ -1,6 +1,10 @@
-"""The studio under a hostile flood: does the preview keep moving, does it stay up, does it stop.
+"""The studio (and the screen) under hostile traffic: does the preview keep moving, stay up, stop.
 
-    python bench/bench_hostile_studio.py
+    python bench/bench_hostile_studio.py [flood] [rebinding] [half-open] [pages]
+
+With no phase named, all four run, in that order.
+
+flood:
 
 Starts `baxterface studio` (idle off) on a two-line script, with a page (a
 WebSocket client here) watching a face kept moving for the whole run, then
@@ -18,6 +22,21 @@ unknown paths. Measures:
 - its log: lines other than the one it writes for each refused request;
 - with a page connected to a moving face, the time to stop on SIGINT and on
   SIGTERM, and the exit codes (130 and 143 expected).
+
+rebinding: at the studio and at the screen, requests with the Host (and a
+matching Origin) a rebinding page sends, a wrong port, no port, and Origins
+that do not parse: the answer to GET /api/state, POST /api/save (studio) and
+a WebSocket upgrade of /api/live (403 expected for each; 200 and 101 for
+the good ones).
+
+half-open: at the studio and at the screen, started with `ulimit -n 1024`,
+1,100 connections that never send a byte; then a well-behaved client asks
+GET /api/state once a second for 40 s: how many answers it gets, the first
+one after how long, and how much the server wrote to its log.
+
+pages: the screen at --fps 30 with 250 pages (WebSockets) open, commands
+posted back to back for 10 s: frames a second each page receives, and the
+time from a command's posting to the next frame at a page (p50, p95).
 """
 
 from __future__ import annotations
@@ -64,14 +83,22 @@ MIX = [
 ]
 
 
-def start(script: Path, log: Path) -> tuple:
-    """`baxterface studio SCRIPT` as its own process; (process, port) once it answers."""
+def start(script: Path, log: Path, words: tuple = ("studio",), files: int = 0) -> tuple:
+    """`baxterface studio SCRIPT` (or WORDS SCRIPT) as its own process; (process, port) once it answers.
+
+    `files`, when given, is the most files the server may hold open (as `ulimit -n`)."""
     env = dict(
         os.environ,
         PYTHONUNBUFFERED="1",
         PYTHONPATH=os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")]),
     )
-    command = [sys.executable, "-m", "baxterface_cli", "studio", str(script), "--no-browser", "--port", "0"]
+    command = [sys.executable, "-m", "baxterface_cli", *words, str(script), "--no-browser", "--port", "0"]
+
+    def limited() -> None:
+        import resource
+
+        resource.setrlimit(resource.RLIMIT_NOFILE, (files, files))
+
     with open(log, "w", encoding="utf-8") as err:
         process = subprocess.Popen(
             [*command, "--seed", "7", "--no-idle"],
@@ -79,6 +106,7 @@ def start(script: Path, log: Path) -> tuple:
             stderr=err,
             env=env,
             cwd=script.parent,
+            preexec_fn=limited if files else None,
         )
     deadline = time.monotonic() + 60
     while not (found := URL_LINE.search(log.read_text(encoding="utf-8"))):
@@ -183,7 +211,7 @@ def stop_time(folder: Path, signum: int) -> tuple:
     return took, code, page.closed
 
 
-def main() -> None:
+def flood_phase() -> None:
     folder = Path(tempfile.mkdtemp(prefix="bench-hostile-studio-"))
     (folder / "face.bax").write_text("happy\nwait 1s\n", encoding="utf-8")
     log = folder / "studio.log"
@@ -249,5 +277,22 @@ def main() -> None:
         print(f"{name}, a page connected: exited in {took:.2f} s, exit code {code}, page closed {closed}")
 
 
+PHASES = {"flood": flood_phase}
+
+
+def main() -> None:
+    from bench_hostile_web import PHASES as WEB_PHASES
+
+    phases = {**PHASES, **WEB_PHASES}
+    asked = sys.argv[1:] or list(phases)
+    unknown = [name for name in asked if name not in phases]
+    if unknown:
+        raise SystemExit(f"no phase {unknown[0]!r}: the phases are {', '.join(phases)}")
+    for name in asked:
+        print(f"== {name}", flush=True)
+        phases[name]()
+
+
 if __name__ == "__main__":
+    sys.path.insert(0, str(Path(__file__).resolve().parent))
     main()

@@ -92,7 +92,8 @@ def screen(
             webbrowser.open(url)
 
     try:
-        stopped_by = serve(api.app(token), sock, ready, stopping=api.stop_taking)
+        served = api.app(token).serving("screen", host, sock.getsockname()[1])
+        stopped_by = serve(served, sock, ready, stopping=api.stop_taking, log=api.log)
     finally:
         if unsubscribe is not None:
             unsubscribe()

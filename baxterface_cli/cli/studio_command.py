@@ -58,6 +58,7 @@ def studio(
     from ..drawing.renderer import Renderer
     from ..studio.api import create_app
     from ..studio.guard import is_loopback
+    from ..studio.pump import log
     from ..studio.server import bind, serve, url_for
     from ..studio.workspace import Workspace
 
@@ -81,7 +82,7 @@ def studio(
         raise fail(f"baxterface studio: cannot serve on {host}:{port}: {e.strerror or e}") from None
     url = url_for(host, sock.getsockname()[1], token)
     made = "" if path.exists() else f" ({path.name} is made on first save)"
-    served = create_app(workspace, renderer, fps, token)
+    served = create_app(workspace, renderer, fps, token).serving("studio", host, sock.getsockname()[1])
 
     def ready() -> None:
         typer.echo(f"baxterface studio: {url}  editing {path}{made}; Ctrl-C stops", err=True)
@@ -90,7 +91,7 @@ def studio(
 
             webbrowser.open(url)
 
-    stopped_by = serve(served, sock, ready)
+    stopped_by = serve(served, sock, ready, log=log)
     if workspace.text != workspace.saved:
         typer.echo(
             f"baxterface studio: stopped; the editor's last changes to {path.name} were not saved", err=True

@@ -25,6 +25,7 @@ from ..engine.first_motion import FirstMotion
 STATUS_EVERY = 0.1  # seconds between status messages to the page
 DISK_EVERY = 0.5  # seconds between looks at the script and the panel on disk
 JPEG_QUALITY = 85
+EARLY = 0.0005  # seconds a timer may wake before its time (the clock's grain) and still be on time
 
 
 def logger(command: str) -> Callable[[str], None]:
@@ -141,11 +142,12 @@ class Pump:
         tick = time.monotonic()
         first_motion = FirstMotion()  # after a command (as the face node): looked at often until it shows
         last_status = last_disk = 0.0
+        next_frame = 0.0  # no frame before: however many commands come, at most `fps` frames a second
         drawn: Any = None
         heard: Any = []
         while True:
             now = time.monotonic()
-            at = first_motion.next_look(tick, now)
+            at = max(first_motion.next_look(tick, now), min(next_frame, tick))
             woken = False
             with contextlib.suppress(asyncio.TimeoutError):
                 await asyncio.wait_for(self._wake.wait(), timeout=max(0.0, at - now))
@@ -164,12 +166,16 @@ class Pump:
                 # With no page open nothing is looked at: a page that opens is sent the face as it is
                 # then (face_api.py), as the first page always was, before the pump started.
                 if pages.queues:
-                    face = shown.face()
-                    key = self.frames.key(face)  # a new state may still draw the same frame: none is sent
-                    if key != drawn:
+                    # A command wakes the pump at once; a flood of them must not draw more often.
+                    face = shown.face() if now >= next_frame - EARLY else None
+                    key = self.frames.key(face) if face is not None else drawn
+                    if key != drawn:  # a new state may still draw the same frame: none is sent
                         pages.send(await run_in_threadpool(self.frames.jpeg, face))
                         drawn = key
                         first_motion.shown()
+                        # From when this look was due, not when the loop got to it: frames at the
+                        # ticks keep the ticks' rhythm.
+                        next_frame = min(at, now) + period
                     status = shown.status()
                     # A sound that starts or stops is told at once: the page plays it in step with the frames.
                     if now - last_status >= self.status_every or status["sounds"] != heard:

@@ -1,15 +1,27 @@
-"""Serving the studio: a listening socket, uvicorn until Ctrl-C or SIGTERM, the address to open.
+"""Serving the studio (and the screen): a listening socket, uvicorn until Ctrl-C or SIGTERM, the address.
 
-The application itself is api.py's; the frame pump is pump.py's.
+The application itself is api.py's (web.py's); the frame pump is pump.py's.
+Connections are kept from using up the process's files (connections.py).
 """
 
 from __future__ import annotations
 
+import sys
 from typing import Any, Callable, Optional
+
+from .connections import Connections
+
+
+def _stderr(message: str) -> None:
+    print(message, file=sys.stderr, flush=True)
 
 
 def serve(
-    app: Any, sock: Any, ready: Callable[[], None], stopping: Callable[[], None] = lambda: None
+    app: Any,
+    sock: Any,
+    ready: Callable[[], None],
+    stopping: Callable[[], None] = lambda: None,
+    log: Callable[[str], None] = _stderr,
 ) -> Optional[int]:
     """Run `app` on the bound socket until Ctrl-C or SIGTERM; returns the signal that stopped it.
 
@@ -17,9 +29,10 @@ def serve(
     interrupts the set-up (under Python 3.8, Ctrl-C inside logging's set-up broke a lock): one
     that comes before uvicorn takes the signals over is kept, and stops the
     server as soon as it is up; uvicorn hands back the ones it caught the same way.
+    `log` takes the server's own lines (connections refused or out of files, once a second).
     """
+    import asyncio
     import signal
-    import sys
 
     import uvicorn
 
@@ -35,8 +48,11 @@ def serve(
     handled = (signal.SIGINT, signal.SIGTERM)
     before = {signum: signal.signal(signum, keep) for signum in handled}
 
+    connections = Connections(log)
+
     class Server(uvicorn.Server):
         async def startup(self, sockets: Any = None) -> None:
+            asyncio.get_running_loop().set_exception_handler(connections.loop_exception)
             await super().startup(sockets=sockets)
             if stops:
                 self.should_exit = True
@@ -48,7 +64,13 @@ def serve(
             await super().shutdown(sockets=sockets)
 
     try:
-        config = uvicorn.Config(app, log_level="warning", lifespan="off", ws_max_size=4 * 1024 * 1024)
+        config = uvicorn.Config(
+            app,
+            log_level="warning",
+            lifespan="off",
+            ws_max_size=4 * 1024 * 1024,
+            http=connections.protocol(),
+        )
         Server(config).run(sockets=[sock])
     finally:
         for signum, handler in before.items():
