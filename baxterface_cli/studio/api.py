@@ -18,10 +18,11 @@ from starlette.responses import JSONResponse, Response
 from starlette.routing import Route
 
 from ..drawing.renderer import Renderer
-from .face_api import BadRequest, FaceApi, answered, body_json, body_text
+from ..language.diagnostics import ScriptError
+from .face_api import BadRequest, FaceApi, Heavy, answered, body_bytes, body_json
 from .guard import Guard
 from .pump import log
-from .workspace import SaveConflict, Workspace, check_text
+from .workspace import SaveConflict, TooLargeToSave, TooManySessions, Workspace
 
 TRANSPORT_ACTIONS = ("play", "pause", "seek", "loop")
 
@@ -37,6 +38,9 @@ class StudioApi(FaceApi):
     def __init__(self, workspace: Workspace, renderer: Renderer, fps: float) -> None:
         super().__init__(workspace, renderer, fps, log, watch=self._disk_changes)
         self.workspace = workspace
+        # The editor's checks and scripts wait in a line of their own: reading a long recording or
+        # synthesising a long `say` there must not hold up the presses (`self.heavy`).
+        self.editing = Heavy()
 
     def routes(self) -> list:
         return [
@@ -73,27 +77,31 @@ class StudioApi(FaceApi):
 
     @answered
     async def check(self, request: Request) -> Response:
-        text = await body_text(request)
-        return JSONResponse(await self.heavy.run(check_text, text, self.workspace.name))
+        data = await body_bytes(request)
+        return JSONResponse(await self.editing.run(self.workspace.check, data))
 
     @answered
     async def script(self, request: Request) -> Response:
-        answer = await self.heavy.run(self.workspace.update, await body_text(request))
+        answer = await self.editing.run(self.workspace.update, await body_bytes(request))
         self.pump.wake()
         return JSONResponse(answer)
 
     @answered
     async def save(self, request: Request) -> Response:
-        text = await body_text(request)
+        data = await body_bytes(request)
         base = request.query_params.get("base")
         if request.query_params.get("force") == "1":
             base = None
         elif base is not None and not re.fullmatch(r"[0-9]{1,9}", base):
             raise BadRequest(f"base must be a version number, not {base[:20]!r}")
         try:
-            saved = await run_in_threadpool(self.workspace.save, text, None if base is None else int(base))
+            saved = await run_in_threadpool(self.workspace.save, data, None if base is None else int(base))
         except SaveConflict as e:  # the page asks before it overwrites
             return JSONResponse({"error": str(e), "conflict": True, "version": e.version}, 409)
+        except TooLargeToSave as e:
+            return JSONResponse({"error": str(e)}, 413)
+        except ScriptError as e:  # not UTF-8: saved as it came, it would not load again
+            raise BadRequest(f"not saved: {e.summary()}") from None
         except OSError as e:
             return JSONResponse({"error": f"cannot save {self.workspace.name}: {e.strerror or e}"}, 500)
         return JSONResponse(saved)
@@ -123,6 +131,8 @@ class StudioApi(FaceApi):
     async def export(self, request: Request) -> Response:
         try:
             return JSONResponse(await run_in_threadpool(self.workspace.export_session))
+        except TooManySessions as e:
+            return JSONResponse({"error": str(e)}, 429)
         except OSError as e:
             return JSONResponse({"error": f"cannot write the session: {e.strerror or e}"}, 500)
 
@@ -135,4 +145,10 @@ class StudioApi(FaceApi):
 
 
 def _is_number(value: Any) -> bool:
-    return isinstance(value, (int, float)) and not isinstance(value, bool) and abs(value) < float("inf")
+    """A finite number a float holds (JSON's 400-digit integers do not)."""
+    if not isinstance(value, (int, float)) or isinstance(value, bool):
+        return False
+    try:
+        return abs(float(value)) < float("inf")
+    except OverflowError:
+        return False

@@ -32,6 +32,7 @@ from ..core.tables import LIMITS
 from ..drawing.renderer import Renderer
 from ..extras import MissingTool
 from ..language.diagnostics import ScriptError, shortened
+from ..language.source import decode
 from .guard import Guard
 from .pump import STATUS_EVERY, Frames, Pages, Pump, Shown
 from .workspace import diagnostics_json
@@ -296,15 +297,26 @@ async def _closed(websocket: WebSocket) -> None:
         pass
 
 
-async def body_text(request: Request) -> str:
-    """The body as text, read no further than the largest script the server takes."""
+async def body_bytes(request: Request) -> bytes:
+    """The body, read no further than the largest script the server takes (and a little more, so
+    that a script just over the limit is checked and told so, as `check` tells it)."""
     chunks, size = [], 0
     async for chunk in request.stream():
         chunks.append(chunk)
         size += len(chunk)
         if size > LIMITS.max_bytes + 1024:
             raise TooLarge()
-    return b"".join(chunks).decode("utf-8", "replace")
+    return b"".join(chunks)
+
+
+async def body_text(request: Request) -> str:
+    """The body as text: UTF-8 (a byte-order mark is dropped), else BadRequest naming the first
+    byte that is not, as `check` reads a script."""
+    data = await body_bytes(request)
+    try:
+        return decode(data, "the body")
+    except ScriptError as e:
+        raise BadRequest(e.summary()) from None
 
 
 async def body_json(request: Request) -> Dict[str, Any]:
@@ -312,6 +324,8 @@ async def body_json(request: Request) -> Dict[str, Any]:
         value = json.loads(await body_text(request) or "{}")
     except ValueError as e:
         raise BadRequest(f"the body must be JSON: {e}") from None
+    except RecursionError:  # nested deeper than Python's parser goes
+        raise BadRequest("the body must be JSON nested at most a few hundred levels deep") from None
     if not isinstance(value, dict):
         raise BadRequest("the body must be a JSON object")
     return value

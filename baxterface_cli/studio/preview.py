@@ -103,9 +103,16 @@ class Preview:
     def load(self, script: Script) -> None:
         """Play `script` from where the transport is (MissingTool if it says something with no engine,
         RecordingError for a recording it cannot say)."""
-        timeline = compile_script(script, self.seed, recordings=self.recordings)
-        self.animation = Animation(timeline, self.idle, self.seed)
-        self.script = script
+        self.show(script, self.prepare(script))
+
+    def prepare(self, script: Script) -> Animation:
+        """The slow half of `load`, which changes nothing: compiled, speech synthesised, recordings
+        read. The studio does it before taking the lock the frames wait on."""
+        return Animation(compile_script(script, self.seed, recordings=self.recordings), self.idle, self.seed)
+
+    def show(self, script: Script, animation: Animation) -> None:
+        """The quick half: play a prepared script from where the transport is."""
+        self.animation, self.script = animation, script
 
     @property
     def duration(self) -> float:
@@ -134,7 +141,7 @@ class Preview:
     def prepare_press(self, text: str, now: float) -> Tuple[Pending, Animation]:
         """The slow half of a press, which changes nothing (see `Session.prepare`)."""
         pending = self.session.prepare(text, now)
-        return pending, Animation(pending.timeline, self.idle, self.seed)
+        return pending, Animation(pending.part.timeline, self.idle, self.seed)
 
     def take_press(self, prepared: Tuple[Pending, Animation], now: float) -> float:
         """The quick half: the prepared press shown from now. Stale if the session moved on."""
@@ -158,13 +165,24 @@ class Preview:
         self.transport.settle(now, self.duration)
         return self.transport.position(now, self.duration)
 
-    def _shown(self) -> Animation:
-        return self._session_animation if self.mode == SESSION else self.animation
+    def _shown(self) -> Tuple[Animation, float]:
+        """What is shown, and where its time 0 is on the position's: the session plays in parts."""
+        if self.mode == SESSION:
+            return self._session_animation, self.session.part.offset
+        return self.animation, 0.0
 
     def at(self, now: float) -> Tuple[float, FaceState, RobotStatus]:
-        """The position, the face, and the robot's status at `now`."""
-        animation = self._shown()
+        """The position, the face, and the robot's status at `now` (its times the position's)."""
+        animation, offset = self._shown()
         t = self.position(now)
+        if self.mode == SESSION:
+            part = self.session.part
+            robot = animation.timeline.status(t - offset, part.robot)
+            # The part's own times, moved onto the session's.
+            robot = robot._replace(
+                nodding_until=robot.nodding_until + offset, saying_until=robot.saying_until + offset
+            )
+            return t, animation.sample(t - offset), robot
         return t, animation.sample(t), animation.timeline.status(t)
 
     def sounds(self, now: float) -> List[Dict[str, object]]:
@@ -172,8 +190,9 @@ class Preview:
         t = self.position(now)
         if self.mode == SCRIPT and not self.transport.playing:
             return []
-        heard: List[Said] = self._shown().timeline.sounding(t)
-        return [{"key": sound_key(said.utterance), "at": round(said.at, 3)} for said in heard]
+        animation, offset = self._shown()
+        heard: List[Said] = animation.timeline.sounding(t - offset)
+        return [{"key": sound_key(said.utterance), "at": round(said.at + offset, 3)} for said in heard]
 
     def utterance(self, key: str) -> Optional[Utterance]:
         """The utterance of the script or the session whose sound is called `key`."""
@@ -187,7 +206,7 @@ class Preview:
         """How long what is shown is: the script's length, or the session's so far (it goes on
         with the clock past its last press's end)."""
         if self.mode == SESSION:
-            return max(self.session.timeline.duration, t)
+            return max(self.session.duration, t)
         return self.duration
 
     def status(self, now: float) -> dict:

@@ -11,31 +11,51 @@ names a path.
 
 from __future__ import annotations
 
-import contextlib
 import io
 import os
+import stat
 import threading
 import time
 from pathlib import Path
-from typing import Any, Callable, Dict, List, Optional, Tuple
+from typing import Any, Callable, Dict, List, Optional, Tuple, Union
 
 from ..core.easing import EASINGS
-from ..core.partial_files import write_atomic
+from ..core.partial_files import PartialFile, write_atomic
 from ..core.presets import MOOD_CIRCLE
-from ..core.tables import BROWS, DIRECTIONS, EMOTIONS, MOUTHS
+from ..core.tables import BROWS, DIRECTIONS, EMOTIONS, LIMITS, MOUTHS
 from ..engine.timeline import Timeline
 from ..extras import MissingTool
 from ..language.checker import walk
 from ..language.diagnostics import Diagnostic, ScriptError
 from ..language.parser import decode, grammar_words, parse, read_bounded
-from ..language.syntax_tree import Say
+from ..language.syntax_tree import Say, Script
 from ..language.vocabulary import BARE_WORDS
 from ..speech import phones_heard
 from ..speech.recordings import NO_POCKETSPHINX, RecordingError, Recordings
 from ..speech.soundtrack import write_wav
 from .panel import Button, PanelError, load_panel
 from .preview import Preview, sound_key
+from .robot_switch import RobotSwitch
 from .session import Stale
+
+MAX_SESSION_FILES = 100  # session files one run writes; each session has one, replaced by its exports
+
+
+def _write_keeping_mode(path: Path, data: bytes) -> None:
+    """`data` as the file `path`, atomically, with the permissions the file had (a new one: the umask's)."""
+    try:
+        mode: Optional[int] = stat.S_IMODE(os.stat(str(path)).st_mode)
+    except OSError:
+        mode = None
+    partial = PartialFile(path)
+    try:
+        if mode is not None:  # before a byte is written: never readable by more than the file was
+            os.fchmod(partial.file.fileno(), mode)
+        partial.file.write(data)
+        partial.commit()
+    except BaseException:
+        partial.discard()
+        raise
 
 
 def diagnostics_json(diagnostics: List[Diagnostic]) -> List[Dict[str, Any]]:
@@ -45,12 +65,18 @@ def diagnostics_json(diagnostics: List[Diagnostic]) -> List[Dict[str, Any]]:
     ]
 
 
-def check_text(text: str, filename: str = "<script>") -> List[Dict[str, Any]]:
-    """What `baxterface check` says of `text`, as JSON records."""
+def check_text(
+    text: Union[str, bytes], filename: str = "<script>", recordings: Optional[Recordings] = None
+) -> List[Dict[str, Any]]:
+    """What `baxterface check` says of `text` (bytes are decoded as `check` reads a file), with its
+    recordings looked up in `recordings` when given, as JSON records."""
     try:
-        script = parse(text, filename)
+        script = parse(decode(text, filename) if isinstance(text, bytes) else text, filename)
     except ScriptError as e:
         return diagnostics_json(e.diagnostics)
+    problems = recordings.check(script) if recordings is not None and "file" in script.source.lower() else []
+    if problems:  # as `check`: the recordings' errors, and then no warnings
+        return diagnostics_json(ScriptError(problems, filename, script.source).diagnostics)
     return diagnostics_json(list(script.warnings))
 
 
@@ -87,39 +113,12 @@ def feelings() -> Dict[str, Any]:
     }
 
 
-class RobotSwitch:
-    """Presses go to the robot too, once switched on and a ROS master answers."""
+class TooLargeToSave(ValueError):
+    """A save the studio could not load again: over the size limit scripts are read with."""
 
-    def __init__(self, topic: str = "display_chatter") -> None:
-        self.topic = topic
-        self.link: Optional[Any] = None
-        self.on = False
-        self.reason = "off"
 
-    def switch(self, on: bool) -> Dict[str, Any]:
-        if on and self.link is None:
-            from ..ros.connect import RosUnavailable, require_master, require_ros
-
-            try:
-                require_ros(1)
-                require_master(timeout=1.0)
-                from ..ros.chatter import ChatterLink
-
-                self.link = ChatterLink(self.topic)
-            except RosUnavailable as e:
-                self.reason = str(e)
-                return self.as_json()
-        self.on = on and self.link is not None
-        self.reason = "off" if not on else self.reason
-        return self.as_json()
-
-    def send(self, text: str) -> None:
-        if self.on and self.link is not None:
-            self.link.send(text)
-
-    def as_json(self) -> Dict[str, Any]:
-        status = self.link.status() if self.on and self.link is not None else self.reason
-        return {"on": self.on, "available": self.link is not None, "status": status}
+class TooManySessions(Exception):
+    """The studio has written as many session files as it writes in one run."""
 
 
 class SaveConflict(Exception):
@@ -155,6 +154,9 @@ class Workspace:
         self.robot = RobotSwitch(topic)
         self.buttons: List[Button] = load_panel(panel)
         self.preview_note = ""
+        self.unreadable = ""  # why the file on disk, changed since, cannot be read
+        self._exported: Dict[int, Path] = {}  # each session's file, by its number
+        self._sessions = 0  # sessions cleared so far: the number of the one going on
         self.saved = self._read() if self.path.exists() else ""
         self.text = self.saved
         # Counts the versions of the file: each save here and each change seen on disk. A page
@@ -180,63 +182,94 @@ class Workspace:
             return None
         return (found.st_mtime_ns, found.st_size, found.st_ino) if found else None
 
-    def update(self, text: str) -> Dict[str, Any]:
-        """The editor's text: checked, and played by the preview when it is good."""
+    def check(self, text: Union[str, bytes]) -> List[Dict[str, Any]]:
+        """What `baxterface check` says of `text` as this script: recordings from its folder."""
+        return check_text(text, self.name, self.recordings)
+
+    def update(self, text: Union[str, bytes]) -> Dict[str, Any]:
+        """The editor's text: checked, and played by the preview when it is good.
+
+        Everything slow (reading and analysing recordings, synthesising speech,
+        compiling) is done before the lock the frames wait on is taken; each
+        recording is opened once.
+        """
         try:
+            text = decode(text, self.name) if isinstance(text, bytes) else text
             script = parse(text, self.name)
         except ScriptError as e:
-            with self.lock:
-                self.text = text
+            if isinstance(text, str):
+                with self.lock:
+                    self.text = text
             return {"diagnostics": diagnostics_json(e.diagnostics), "timeline": self.timeline()}
         diagnostics = diagnostics_json(list(script.warnings))
-        unsaid = self.recordings.check(script) if "file" in text.lower() else []
+        unsaid, english = self._recite(script)
         if unsaid:  # a recording missing or unreadable: an error, where it is named, as check says
             with self.lock:
                 self.text = text
             return {"diagnostics": diagnostics_json(unsaid) + diagnostics, "timeline": self.timeline()}
-        if self._hear_recordings(script) and not phones_heard.available():  # the rougher mouth: say so
+        if english and not phones_heard.available():  # the rougher mouth: say so
             diagnostics.append({"line": 0, "column": 0, "severity": "warning", "message": NO_POCKETSPHINX})
+        animation, note = None, self.preview_note
+        try:
+            animation, note = self.preview.prepare(script), ""
+        except MissingTool as e:  # `say` with no speech engine: check is content, play is not
+            note = str(e)
+            diagnostics.append({"line": 0, "column": 0, "severity": "warning", "message": str(e)})
+        except RecordingError as e:  # changed on disk since it was read
+            diagnostics = diagnostics_json([e.diagnostic()]) + diagnostics
         with self.lock:
-            self.text = text
-            try:
-                self.preview.load(script)
-                self.preview_note = ""
-            except MissingTool as e:  # `say` with no speech engine: check is content, play is not
-                self.preview_note = str(e)
-                diagnostics.append({"line": 0, "column": 0, "severity": "warning", "message": str(e)})
-            except RecordingError as e:  # changed on disk since it was checked
-                diagnostics = diagnostics_json([e.diagnostic()]) + diagnostics
+            self.text, self.preview_note = text, note
+            if animation is not None:
+                self.preview.show(script, animation)
         return {"diagnostics": diagnostics, "timeline": self.timeline()}
 
-    def _hear_recordings(self, script: Any) -> bool:
-        """Find the mouths of the script's recordings before the lock is taken: the first time, a
-        long one takes seconds, and the frame pump must not wait (then they are kept). Whether
-        one of them is English, whose phonemes pocketsphinx hears."""
-        english = False
+    def _recite(self, script: Any) -> Tuple[List[Diagnostic], bool]:
+        """Read each recording the script says, once, and find its mouth (kept: compiling then finds
+        it), without the lock: the first time, a long one takes seconds. What cannot be said, at
+        each `say file`; and whether one of them is English, whose phonemes pocketsphinx hears."""
+        english, unsaid = False, []
         for say in walk(script.body):
             if isinstance(say, Say) and say.file is not None:
                 english = english or not say.language or say.language.startswith("en")
-                with contextlib.suppress(RecordingError, MissingTool):
+                try:
                     self.recordings.recite(say)
-        return english
+                except RecordingError as e:
+                    unsaid.append(e.diagnostic())
+                except MissingTool:  # without the lipsync extra: only that the file is there
+                    unsaid.extend(self.recordings.check(Script((say,), self.name, (), "")))
+        return unsaid, english
 
     def timeline(self) -> Dict[str, Any]:
         with self.lock:
             return timeline_json(self.preview.animation.timeline)
 
-    def save(self, text: str, base: Optional[int] = None) -> Dict[str, Any]:
+    def save(self, text: Union[str, bytes], base: Optional[int] = None) -> Dict[str, Any]:
         """Write `text` as the script; SaveConflict if the file changed since version `base`.
 
         The file is looked at here as well as every half second, so a change
         made just before the save is not overwritten unseen. Without `base`
         (a forced save, or a client that does not track versions) it writes.
+        Bytes are decoded as `check` reads a file (ScriptError where they are
+        not UTF-8); TooLargeToSave past the size the studio reads a script
+        at; the file keeps its permissions.
         """
+        text = decode(text, self.name) if isinstance(text, bytes) else text
+        data = text.encode("utf-8", "surrogatepass")
+        if len(data) > LIMITS.max_bytes:
+            raise TooLargeToSave(
+                f"not saved: the script is {len(data)} bytes; the studio, like every command, reads a "
+                f"script of at most {LIMITS.max_bytes} bytes"
+            )
         with self.lock:
             if base is not None and (base != self.version or self._changed_on_disk()):
-                raise SaveConflict(f"{self.name} changed on disk since it was loaded", self.version)
-            write_atomic(self.path, text.encode("utf-8"))
+                why = f"{self.name} changed on disk since it was loaded"
+                if self.unreadable:
+                    why = f"{self.name} changed on disk, and the studio cannot read it ({self.unreadable})"
+                raise SaveConflict(why, self.version)
+            _write_keeping_mode(self.path, data)
             self.saved = self.text = text
             self._disk_stamp = self._stamp(self.path)
+            self.unreadable = ""
             self.version += 1
             return {"saved": True, "name": self.name, "version": self.version}
 
@@ -250,19 +283,30 @@ class Workspace:
             return True
 
     def disk_changes(self) -> List[Dict[str, Any]]:
-        """What changed on disk since last asked: the script (as `play --watch` sees it) and the panel."""
+        """What changed on disk since last asked: the script (as `play --watch` sees it) and the panel.
+
+        A change the studio cannot read (not UTF-8, too large) is told to the
+        page, and counts as a new version: a save based on the one before is
+        refused rather than overwriting it unseen.
+        """
         changes: List[Dict[str, Any]] = []
         stamp = self._stamp(self.path)
         if stamp is not None and stamp != self._disk_stamp:
             self._disk_stamp = stamp
             try:
-                text = self._read()
-            except ScriptError:
+                text: Optional[str] = self._read()
+            except ScriptError as e:
                 text = None
+                with self.lock:
+                    self.unreadable = e.diagnostics[0].message if e.diagnostics else "unreadable"
+                    self.version += 1
+                    version = self.version
+                message = f"{self.name} changed on disk and cannot be read: {self.unreadable}"
+                changes.append({"kind": "notice", "message": message, "unreadable": True, "version": version})
             if text is not None and text != self.saved:
                 with self.lock:
                     unsaved = self.text != self.saved
-                    self.saved = text
+                    self.saved, self.unreadable = text, ""
                     self.version += 1
                     version = self.version
                 if not unsaved:  # nothing of the user's to lose: play the new version
@@ -335,25 +379,38 @@ class Workspace:
         self.robot.send(text)
         return at
 
-    def session(self) -> Dict[str, Any]:
+    def session(self, whole: bool = False) -> Dict[str, Any]:
+        """The session's latest presses (`whole`: all, and its text)."""
         with self.lock:
-            return self.preview.session.as_json()
+            return self.preview.session.as_json(whole)
 
     def clear_session(self) -> Dict[str, Any]:
         with self.lock:
             self.preview.clear_session()
+            self._sessions += 1
         return self.session()
 
     def export_session(self) -> Dict[str, Any]:
-        """Write the session beside the script, under a name of its own time."""
-        stamp = time.strftime("%Y%m%d-%H%M%S")
-        target = self.folder / f"session-{stamp}.face"
-        number = 1
-        while target.exists():
-            number += 1
-            target = self.folder / f"session-{stamp}-{number}.face"
+        """Write the session beside the script: one file a session, named after its first press's
+        time, which each later export of the same session replaces. A new file for each export
+        filled the folder (2,000 in 5 s); past `MAX_SESSION_FILES` sessions in one run, refused."""
         with self.lock:
             session = self.preview.session
+            key = self._sessions
+            target = self._exported.get(key)
+            if target is None:
+                if len(self._exported) >= MAX_SESSION_FILES:
+                    raise TooManySessions(
+                        f"the studio has written {MAX_SESSION_FILES} session files in this run, the most "
+                        "it writes; each session's later exports replace its own file"
+                    )
+                stamp = time.strftime("%Y%m%d-%H%M%S")
+                target = self.folder / f"session-{stamp}.face"
+                number = 1
+                while target.exists() or target in self._exported.values():
+                    number += 1
+                    target = self.folder / f"session-{stamp}-{number}.face"
+                self._exported[key] = target
             text = session.text_of(session.presses, target.name)
         write_atomic(target, text.encode("utf-8"))
         return {"path": target.name, "text": text}
@@ -373,7 +430,7 @@ class Workspace:
             "feelings": feelings(),
             "buttons": [b.as_json() for b in self.buttons],
             "timeline": self.timeline(),
-            "session": self.session(),
+            "session": self.session(whole=True),
             "status": self.status(),
             "robot_link": self.robot.as_json(),
         }

@@ -83,7 +83,7 @@
     const text = editor.getText();
     let { ok, status, data } = await api("POST", `/api/save?base=${version}`, text);
     if (status === 409) {
-      if (!window.confirm(`${$("name").textContent} changed on disk since you loaded it. Overwrite that change with the editor's text?`)) {
+      if (!window.confirm(`${data.error}. Overwrite it with the editor's text?`)) {
         $("notice").textContent = `not saved: ${data.error}`;
         return;
       }
