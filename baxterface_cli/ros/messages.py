@@ -8,7 +8,13 @@ every built class's md5sum with the one its package publishes.
 
 from __future__ import annotations
 
-from typing import Any, Dict, NamedTuple, Tuple
+import atexit
+import shutil
+import tempfile
+import threading
+from typing import Any, Dict, List, NamedTuple, Optional, Tuple
+
+from ..core.run_folders import own_folder
 
 BAXTER = "baxter_core_msgs"  # the package a bare name ("HeadPanCommand") means
 
@@ -171,7 +177,40 @@ def _generate(name: str) -> Any:
     for dependency in _dependency_closure(name):
         own = _installed(dependency)._full_text.split(f"\n{SEPARATOR}")[0]
         full += f"\n{SEPARATOR}\nMSG: {dependency}\n{own}"
-    return genpy.dynamic.generate_dynamic(name, full)[name]
+    # genpy writes each class to a `genpy_*` folder in the temporary folder and removes it only at
+    # exit: made inside a folder named with our pid instead, a node killed outright leaves nothing
+    # the next one does not sweep (core/run_folders.py).
+    with _GENERATING:
+        genpy.dynamic.tempfile = _InFolder(_genpy_folder())
+        try:
+            return genpy.dynamic.generate_dynamic(name, full)[name]
+        finally:
+            genpy.dynamic.tempfile = tempfile
+
+
+_GENERATING = threading.Lock()
+_folder: List[str] = []
+
+
+def _genpy_folder() -> str:
+    if not _folder:
+        _folder.append(own_folder("genpy"))
+        # Registered before genpy registers its own clean-ups, so it runs after them.
+        atexit.register(shutil.rmtree, _folder[0], ignore_errors=True)
+    return _folder[0]
+
+
+class _InFolder:
+    """The `tempfile` module as genpy sees it, its new folders made inside `parent`."""
+
+    def __init__(self, parent: str) -> None:
+        self.parent = parent
+
+    def mkdtemp(self, suffix: Optional[str] = None, prefix: Optional[str] = None, dir: Any = None) -> str:
+        return tempfile.mkdtemp(suffix, prefix, self.parent)
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(tempfile, name)
 
 
 def _dependency_closure(name: str) -> list:

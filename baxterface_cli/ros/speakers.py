@@ -9,11 +9,12 @@ from __future__ import annotations
 import contextlib
 import os
 import shutil
-import tempfile
+import threading
 import time
 from collections import deque
 from typing import Any, Callable, Deque, Dict, Optional, Tuple
 
+from ..core.run_folders import own_folder
 from ..engine.effects import Speech
 from ..speech.soundtrack import write_wav
 from .wire import COMMAND_TYPES, PLAY_ONCE, PLAY_STOP, SOUND_PLAY_FILE, SOUND_TOPIC
@@ -43,25 +44,29 @@ class SoundPlaySpeaker(Speaker):
     """Each utterance as a WAV file, played by ROS's sound_play (PLAY_FILE on /robotsound).
 
     sound_play opens the file by its path, so it must run on this machine. The
-    files live in a folder of this speaker's own, each removed once it has surely
-    been played, and the folder with them on `close`.
+    files live in a folder of this speaker's own (named with the pid, so a node
+    killed outright has it swept by the next: core/run_folders.py), each removed
+    by a timer once it has surely been played, the oldest sooner when they take
+    more than `MAX_BYTES`, and the folder with them on `close`.
     """
 
     KEEP = 30.0  # seconds a file outlives its sound: sound_play may open it late
+    MAX_BYTES = 64 * 2**20  # the folder's most: beyond it the oldest go, however recent
 
     def __init__(self, link: Any, warn: Callable[[str], None]) -> None:
         self.warn = warn
         self.publisher = link.publisher(SOUND_TOPIC, COMMAND_TYPES[SOUND_TOPIC])
-        self.folder = tempfile.mkdtemp(prefix="baxterface-speech-")
-        self.files: Deque[Tuple[str, float]] = deque()  # (path, when it may go), oldest first
+        self.folder = own_folder("speech")
+        self.files: Deque[Tuple[str, float, int]] = deque()  # (path, when it may go, bytes), oldest first
         self.playing: Optional[Tuple[str, float]] = None  # (path, when its sound ends)
         self.said = 0
+        self.changed = threading.Condition()
+        self.closed = False
+        self.remover = threading.Thread(target=self._remove_on_time, name="speech-files", daemon=True)
+        self.remover.start()
 
     def speak(self, effect: Speech) -> None:
         now = time.monotonic()
-        while self.files and self.files[0][1] <= now:
-            with contextlib.suppress(OSError):  # gone already
-                os.remove(self.files.popleft()[0])
         if self.said == 0 and self.publisher.listeners() == 0:
             # A request that nobody hears is dropped without a word: only this tells.
             self.warn(
@@ -73,8 +78,12 @@ class SoundPlaySpeaker(Speaker):
         path = os.path.join(self.folder, f"say-{self.said:06d}.wav")
         write_wav(path, utterance.samples, utterance.sample_rate)
         self._request(PLAY_ONCE, path)
-        self.files.append((path, now + utterance.duration + self.KEEP))
         self.playing = (path, now + utterance.duration)
+        with self.changed:
+            self.files.append((path, now + utterance.duration + self.KEEP, _size(path)))
+            while len(self.files) > 1 and sum(f[2] for f in self.files) > self.MAX_BYTES:
+                _remove(self.files.popleft()[0])
+            self.changed.notify()
 
     def stop(self) -> None:
         if self.playing is not None and self.playing[1] > time.monotonic():
@@ -82,10 +91,35 @@ class SoundPlaySpeaker(Speaker):
         self.playing = None
 
     def close(self) -> None:
+        with self.changed:
+            self.closed = True
+            self.changed.notify()
+        self.remover.join(timeout=5.0)
         shutil.rmtree(self.folder, ignore_errors=True)
+
+    def _remove_on_time(self) -> None:
+        """Remove each file when it falls due, whether or not anything more is said."""
+        with self.changed:
+            while not self.closed:
+                now = time.monotonic()
+                while self.files and self.files[0][1] <= now:
+                    _remove(self.files.popleft()[0])
+                self.changed.wait(self.files[0][1] - now if self.files else None)
 
     def _request(self, command: int, path: str) -> None:
         self.publisher.publish(sound=SOUND_PLAY_FILE, command=command, volume=1.0, arg=path, arg2="")
+
+
+def _size(path: str) -> int:
+    try:
+        return os.path.getsize(path)
+    except OSError:
+        return 0
+
+
+def _remove(path: str) -> None:
+    with contextlib.suppress(OSError):  # gone already
+        os.remove(path)
 
 
 class LocalSpeaker(Speaker):

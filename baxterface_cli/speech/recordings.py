@@ -20,8 +20,10 @@ The mouth then follows them by the same table and rules as `say` (visemes.py).
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import json
+import math
 import os
 import threading
 from collections import OrderedDict
@@ -33,14 +35,16 @@ import numpy as np
 from ..core import user_cache
 from ..core.partial_files import write_atomic
 from ..language import syntax_tree as n
-from ..language.checker import walk
+from ..language.checker import check_length, walk
 from ..language.diagnostics import Diagnostic
 from . import phones_heard
 from .audio_files import ANALYSIS_RATE, EXTRA, AudioError, check_file, probe, read_sound
 from .phone_names import espeak_phonemes, frame_loudness, spelled
+from .phones_heard import FRAME
 from .sound_mouth import spectrum_phonemes
 from .synthesis import Phoneme, Recording, Utterance, Word
 from .visemes import MOUTH_RULES, MouthKey, MouthRules, mouth_track
+from .wav_header import HeaderError, open_recording
 
 # How a recording's phonemes were found, as `explain` says it.
 METHODS = {
@@ -49,7 +53,10 @@ METHODS = {
     "spectrum": "loudness and spectrum",
 }
 ANALYSIS_VERSION = 1  # a new one leaves what the old analysis kept unread
-KEPT = 16  # recordings kept in memory: the studio compiles its script at every edit
+# Recordings kept in memory (the studio compiles its script at every edit), by the bytes of their
+# sound: a ten-minute one at 48 kHz is 58 MB.
+KEPT_BYTES = 128 * 2**20
+CACHE_BYTES = 32 * 2**20  # analyses kept on disk; the least recently used go first
 NO_POCKETSPHINX = (
     f"lip-sync from a recording hears its phonemes with pocketsphinx: pip install 'baxterface[{EXTRA}]'; "
     "the mouth follows its loudness and spectrum instead"
@@ -121,39 +128,39 @@ class Recordings:
         return real
 
     def check(self, script: n.Script) -> List[Diagnostic]:
-        """What is wrong with each recording the script says, where it names it: missing, not sound...
-
-        Without PyAV only that the file is there and a file can be told.
+        """What is wrong with each recording the script says, where it names it: missing, not sound,
+        unreadable without PyAV...; and the script's length with each recording counted as long as
+        its header says (the language alone cannot know it), against the limit.
         """
         out: List[Diagnostic] = []
-        seen: Dict[str, Optional[str]] = {}
-        readable = _have_av()
+        seen: Dict[str, Union[float, str]] = {}  # a file's length, or why it cannot be read
+        lengths: Dict[int, float] = {}
         for say in walk(script.body):
             if not isinstance(say, n.Say) or say.file is None:
                 continue
             try:
                 path = self.path(say.file, say)
                 if path not in seen:
-                    seen[path] = None
                     try:
-                        if readable:
-                            probe(path)
-                        else:
-                            check_file(path)
+                        seen[path] = probe(path)
                     except AudioError as e:
                         seen[path] = str(e)
-                if seen[path] is not None:
-                    raise RecordingError(_unreadable(say.file, seen[path]), say)
+                found = seen[path]
+                if isinstance(found, str):
+                    raise RecordingError(_unreadable(say.file, found), say)
+                lengths[id(say)] = found
             except RecordingError as e:
                 out.append(e.diagnostic())
+        if not out and lengths:
+            out = check_length(script.body, lambda say: lengths.get(id(say), 0.0))
         return out
 
     def recite(self, say: n.Say) -> Recital:
         """The recording `say` names, with its mouth; RecordingError if it cannot be read."""
         path = self.path(say.file or "", say)
         try:
-            check_file(path)
-            info = os.stat(path)
+            with check_file(path) as file:
+                info = os.fstat(file.fileno())
         except (AudioError, OSError) as e:
             raise RecordingError(_unreadable(say.file or "", str(e)), say) from None
         method = _method(say.language, self.warn)
@@ -166,22 +173,26 @@ class Recordings:
             sound = read_sound(path)
         except AudioError as e:
             raise RecordingError(_unreadable(say.file or "", str(e)), say) from None
-        digest = _digest(path)
+        try:
+            digest = _digest(path)
+        except (HeaderError, OSError) as e:  # swapped since it was read
+            raise RecordingError(_unreadable(say.file or "", str(e)), say) from None
         phonemes, words, method = self._analysis(sound, digest, method, say)
+        rules = heard_rules(sound.samples, sound.rate)
         utterance = Utterance(
             say.text,
             say.language or "",
             0,
             sound.samples,
             sound.rate,
-            phonemes,
+            bridged(phonemes, sound.samples, sound.rate, rules),
             words,
             Recording(path, say.file or "", digest, METHODS[method]),
         )
-        recital = Recital(utterance, mouth_track(utterance, heard_rules(sound.samples, sound.rate)))
+        recital = Recital(utterance, mouth_track(utterance, rules))
         with _LOCK:
             _recent[key] = recital
-            while len(_recent) > KEPT:
+            while len(_recent) > 1 and sum(_held(r) for r in _recent.values()) > KEPT_BYTES:
                 _recent.popitem(last=False)
         return recital
 
@@ -189,10 +200,15 @@ class Recordings:
         self, sound: Any, digest: str, method: str, say: n.Say
     ) -> Tuple[Tuple[Phoneme, ...], Tuple[Word, ...], str]:
         folder = self.cache or cache_folder()
-        name = f"{ANALYSIS_VERSION}\n{digest}\n{method}\n{say.language or ''}\n{say.text}"
+        # Only an alignment reads the words: a new `text` for a long recording is the same analysis.
+        aligns = method != "spectrum" and len(sound.analysis) <= phones_heard.ALIGN_SECONDS * ANALYSIS_RATE
+        text = say.text if aligns else ""
+        name = f"{ANALYSIS_VERSION}\n{digest}\n{method}\n{say.language or ''}\n{text}"
         kept = folder / (hashlib.sha256(name.encode("utf-8")).hexdigest() + ".json")
         found = _read_kept(kept)
         if found is not None:
+            with contextlib.suppress(OSError):
+                os.utime(kept)  # recently used: kept the longest
             return found
         if method == "spectrum":
             phonemes, words = spectrum_phonemes(sound.analysis, ANALYSIS_RATE), ()
@@ -207,8 +223,9 @@ class Recordings:
             "words": [[w.at, w.text] for w in words],
         }
         try:
-            folder.mkdir(parents=True, exist_ok=True)
+            user_cache.make_private(folder)
             write_atomic(kept, json.dumps(record).encode("utf-8"))
+            user_cache.trim(folder, "*.json", CACHE_BYTES)
         except OSError:  # a cache that cannot be written only costs the next run the analysis
             pass
         return phonemes, words, method
@@ -224,6 +241,41 @@ def heard_rules(samples: np.ndarray, rate: int, rules: MouthRules = MOUTH_RULES)
     return rules._replace(silence=max(rules.silence, 1.5 * floor), loud=int(max(rules.loud, 6.0 * floor)))
 
 
+def bridged(
+    phonemes: Tuple[Phoneme, ...], samples: np.ndarray, rate: int, rules: MouthRules = MOUTH_RULES
+) -> Tuple[Phoneme, ...]:
+    """The pauses heard inside continuous speech joined to the sound before them.
+
+    A decoder hears a pause in the closure of a stop or between run-together words, where
+    the voice goes on; each would rest the mouth for a moment, a flicker. A pause between
+    two sounds stays one only where the recording is quiet for `rules.pause` or more.
+    """
+    loudness = frame_loudness(samples, rate)
+    out: List[Phoneme] = []
+    for i, phoneme in enumerate(phonemes):
+        between = out and not out[-1].name.startswith("_") and i + 1 < len(phonemes)
+        if (
+            between
+            and phoneme.name.startswith("_")
+            and not phonemes[i + 1].name.startswith("_")
+            and _quiet_run(loudness, phoneme.at, phoneme.end, rules.silence) < rules.pause
+        ):
+            out[-1] = out[-1]._replace(end=phoneme.end)
+        else:
+            out.append(phoneme)
+    return tuple(out)
+
+
+def _quiet_run(loudness: np.ndarray, start: float, end: float, silence: float) -> float:
+    """The longest run of quiet FRAMEs between `start` and `end`, in seconds."""
+    quiet = loudness[int(start / FRAME) : int(math.ceil(end / FRAME))] < silence
+    longest = run = 0
+    for frame_is_quiet in quiet:
+        run = run + 1 if frame_is_quiet else 0
+        longest = max(longest, run)
+    return longest * FRAME
+
+
 def _method(language: Optional[str], warn: Callable[[str], None]) -> str:
     if language is not None and not language.startswith("en"):
         return "spectrum"
@@ -237,21 +289,18 @@ def _method(language: Optional[str], warn: Callable[[str], None]) -> str:
     return "spectrum"
 
 
-def _have_av() -> bool:
-    try:
-        import av  # noqa: F401
-    except ImportError:
-        return False
-    return True
-
-
 def _unreadable(written: str, reason: str) -> str:
     return f"cannot read recording {written!r}: {reason}"
 
 
+def _held(recital: Recital) -> int:
+    """The bytes a recital keeps: its sound, and about as much again for its mouth and phonemes."""
+    return recital.utterance.samples.nbytes + 64 * (len(recital.mouth) + len(recital.utterance.phonemes))
+
+
 def _digest(path: str) -> str:
     sha = hashlib.sha256()
-    with open(path, "rb") as f:
+    with open_recording(path) as f:
         for block in iter(lambda: f.read(1 << 20), b""):
             sha.update(block)
     return sha.hexdigest()

@@ -117,7 +117,9 @@ class Trim(NamedTuple):
 
 
 TRIM = Trim()
-CACHE_SIZE = 32  # utterances remembered: play, render and explain may each ask for the same one
+# Utterances remembered (play, render and explain may each ask for the same one), by the bytes of
+# their sound: one of 1000 characters can be four minutes, 10 MB.
+CACHE_BYTES = 32 * 2**20
 
 
 _engine: Optional[SpeechEngine] = None
@@ -165,8 +167,9 @@ class SpeechEngine:
                 return cached
             utterance = self._synthesize(*key)
             self._cache[key] = utterance
-            if len(self._cache) > CACHE_SIZE:
-                self._cache.popitem(last=False)
+            held = sum(u.samples.nbytes for u in self._cache.values())
+            while len(self._cache) > 1 and held > CACHE_BYTES:
+                held -= self._cache.popitem(last=False)[1].samples.nbytes
             return utterance
 
     def voice_file(self, voice: str) -> str:

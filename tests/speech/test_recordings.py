@@ -310,7 +310,8 @@ def test_without_pocketsphinx_the_mouth_follows_the_sound_after_one_line_naming_
     assert run.code == 0 and out.exists()
     assert run.err.splitlines() == [
         "baxterface: lip-sync from a recording hears its phonemes with pocketsphinx: "
-        "pip install 'baxterface[lipsync]'; the mouth follows its loudness and spectrum instead"
+        "pip install 'baxterface[lipsync]'; the mouth follows its loudness and spectrum instead",
+        f"wrote {out} (6.98 s)",
     ]
 
 
@@ -321,9 +322,10 @@ def test_without_pyav_a_recording_is_one_line_naming_the_extra(recorded, tmp_pat
         "render", "-e", 'say file "said.wav"', "--out", str(out), cwd=folder, env=blocked_env(tmp_path, "av")
     )
     assert run.code == 1 and not out.exists(), run.err
-    assert run.err.splitlines() == [
-        "baxterface: reading a recording needs the 'av' module: pip install 'baxterface[lipsync]'"
-    ]
+    assert run.err.splitlines()[0] == (
+        "<-e>:1:10: error: cannot read recording 'said.wav': "
+        "reading a recording needs the 'av' module: pip install 'baxterface[lipsync]'"
+    )
     run = baxterface(
         "check",
         "-",
@@ -331,7 +333,9 @@ def test_without_pyav_a_recording_is_one_line_naming_the_extra(recorded, tmp_pat
         cwd=folder,
         env=blocked_env(tmp_path, "av"),
     )
-    assert run.code == 1 and "<stdin>:2:10: error: cannot read recording 'gone.wav': no such file" in run.err
+    # `check` refuses what `render` could not read, where it is named.
+    assert run.code == 1 and "<stdin>:1:10: error: cannot read recording 'said.wav': reading" in run.err
+    assert "<stdin>:2:10: error: cannot read recording 'gone.wav': no such file" in run.err
 
 
 def test_a_bad_say_file_is_reported_where_it_is():
