@@ -2,9 +2,10 @@
 
 from __future__ import annotations
 
+import errno
 import json
 import sys
-from typing import List, Optional
+from typing import TYPE_CHECKING, List, Optional
 
 import typer
 
@@ -31,6 +32,11 @@ from .app import (
     load_script,
     script_from,
 )
+
+if TYPE_CHECKING:  # imported where used: `check` needs neither drawing nor playing
+    from ..drawing.renderer import Renderer
+    from ..engine.animation import Animation
+    from ..play.rehearsal import Rehearsal
 
 
 def check(
@@ -86,14 +92,14 @@ def explain(
     --json, print one record per frame with the whole face state (skin,
     mouth, brows, eyes, eyelids, head pan, crossfade) and the robot's status.
     """
-    from ..engine.explanation import explained
+    from ..engine.explanation import explained, frame_times
     from ..engine.timeline import state_record
 
     script = script_from(script_path, inline, "explain")
     animation = animation_for(script, seed, idle, crossfade)
     timeline = animation.timeline
     if as_json:
-        for t in timeline.frame_times(fps):
+        for t in frame_times(timeline.duration, fps):  # the frames `render` draws
             typer.echo(json.dumps(state_record(t, animation.sample(t), timeline.status(t)), sort_keys=True))
         return
     typer.echo(f"{script.filename}: {timeline.duration:.2f} s")
@@ -121,7 +127,9 @@ def render(
     theme: Optional[str] = THEME_OPT,
     idle: bool = typer.Option(False, "--idle", help="Add idle blinks and eye darts."),
     crossfade: Optional[float] = CROSSFADE_OPT,
-    quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress bar."),
+    quiet: bool = typer.Option(
+        False, "--quiet", "-q", help="No progress bar, and no line saying what was written."
+    ),
     robot: str = typer.Option(
         "baxter", "--robot", metavar="NAME", help="For a .bag: baxter (/robot/xdisplay) or sawyer."
     ),
@@ -140,7 +148,6 @@ def render(
     """
     from ..drawing.renderer import Renderer
     from ..export.registry import format_for
-    from ..export.render_to_file import render as render_to
     from ..export.sink import FormatError
     from ..ros.wire import DISPLAY_TOPICS
 
@@ -157,41 +164,74 @@ def render(
         raise typer.BadParameter(
             f"must be {' or '.join(DISPLAY_TOPICS)}, not {robot!r}", param_hint="--robot"
         )
-    animation = animation_for(script_from(script_path, inline, "render"), seed, idle, crossfade)
-    say = lambda line: typer.echo(line, err=True)  # noqa: E731
-    follow = following_from(follow_from, animation, "render", say, face_policy)
-    if at is not None and at > animation.duration:
-        typer.echo(
-            f"baxterface render: --at {at:g} is past the script's end ({animation.duration:.2f} s); "
-            "showing the last frame",
-            err=True,
-        )
-    renderer = Renderer(fitted_theme(theme, size, "render"))
-    show_progress = not quiet and sys.stderr.isatty()
+    drawn = [0, 0]  # frames drawn, frames in all: what Ctrl-C reports
     try:
-        if show_progress:
-            from rich.progress import Progress
+        animation = animation_for(script_from(script_path, inline, "render"), seed, idle, crossfade)
+        say = lambda line: typer.echo(line, err=True)  # noqa: E731
+        follow = following_from(follow_from, animation, "render", say, face_policy)
+        if at is not None and at > animation.duration:
+            say(
+                f"baxterface render: --at {at:g} is past the script's end ({animation.duration:.2f} s); "
+                "showing the last frame"
+            )
+        renderer = Renderer(fitted_theme(theme, size, "render"))
+        count = _written(animation, renderer, out, fps, at, robot, follow, quiet, drawn)
+    except KeyboardInterrupt:  # a partial file is gone already: the sink aborted on the way out
+        done = f" after {drawn[0]} of {drawn[1]} frames" if drawn[1] else ""
+        raise fail(f"baxterface render: stopped{done}; {out} not written", 130) from None
+    if not quiet:  # a log or a pipe hears of it too, as a terminal does
+        frames = f"{count} frame{'s' if count != 1 else ''}, " if fmt.frames else ""
+        typer.echo(f"wrote {out} ({frames}{animation.duration:.2f} s)", err=True)
 
-            with Progress(transient=True) as bar:
-                task = bar.add_task("rendering", total=None)
-                count = render_to(
-                    animation,
-                    renderer,
-                    out,
-                    fps,
-                    at,
-                    lambda done, total: bar.update(task, completed=done, total=total),
-                    robot,
-                    follow,
-                )
-        else:
-            count = render_to(animation, renderer, out, fps, at, robot=robot, follow=follow)
+
+def _written(
+    animation: Animation,
+    renderer: Renderer,
+    out: str,
+    fps: float,
+    at: Optional[float],
+    robot: str,
+    follow: Optional[Rehearsal],
+    quiet: bool,
+    drawn: List[int],
+) -> int:
+    """Render to `out`, with a progress bar on a terminal; the frames written, or a one-line failure."""
+    from ..export.render_to_file import render as render_to
+    from ..export.sink import FormatError
+
+    def counted(done: int, total: int) -> None:
+        drawn[:] = [done, total]
+
+    try:
+        if quiet or not sys.stderr.isatty():
+            return render_to(animation, renderer, out, fps, at, counted, robot, follow)
+        from rich.progress import Progress
+
+        with Progress(transient=True) as bar:
+            task = bar.add_task("rendering", total=None)
+
+            def shown(done: int, total: int) -> None:
+                counted(done, total)
+                bar.update(task, completed=done, total=total)
+
+            return render_to(animation, renderer, out, fps, at, shown, robot, follow)
     except MissingTool as e:
         raise fail(f"baxterface render: {e}") from None
     except FormatError as e:
         raise fail(f"baxterface render: {e}", 2) from None
     except OSError as e:
-        raise fail(f"baxterface render: cannot write {out}: {e.strerror or e}") from None
-    if not quiet and sys.stderr.isatty():
-        frames = f"{count} frame{'s' if count != 1 else ''}, " if fmt.frames else ""
-        typer.echo(f"wrote {out} ({frames}{animation.duration:.2f} s)", err=True)
+        raise fail(f"baxterface render: cannot write {out}: {_reason(e, out)}") from None
+
+
+_NAMED_ERRORS = (errno.EACCES, errno.EPERM, errno.EROFS, errno.ENOTDIR, errno.EISDIR, errno.ENOENT)
+
+
+def _reason(error: OSError, out: str) -> str:
+    """Why writing failed, naming the path at fault where it is not `out` itself."""
+    reason = error.strerror or str(error)
+    named = str(error.filename or "")
+    # A folder made read-only mid-render, say; never the hidden partial's own name.
+    ours = named.rstrip("/") == out.rstrip("/") or ".baxterface-partial" in named
+    if error.errno in _NAMED_ERRORS and named and not ours:
+        return f"{named}: {reason}"
+    return reason

@@ -1,4 +1,5 @@
-"""`explain`'s words: a compiled timeline as lines of text, in time order or grouped."""
+"""`explain`'s words: a compiled timeline as lines of text, in time order or grouped; and the
+times of its frames, which `explain --json` lists and `render` draws."""
 
 from __future__ import annotations
 
@@ -11,6 +12,18 @@ from .timeline import Timeline
 # the robot, then the words said.
 _FACE, _STATEMENT, _ROBOT, _WORD = range(4)
 _GROUPS = {_STATEMENT: 0, _FACE: 1, _ROBOT: 2, _WORD: 3}  # --grouped: the statements first
+
+
+def frame_times(duration: float, fps: float) -> List[float]:
+    """When each frame of a script `duration` seconds long is shown, at `fps`.
+
+    Frames last 1/fps each, so there are as many as last the script to within half a frame (a
+    1 s script at 30 fps is 30 frames, as a player counts them), and the last one shows the end
+    itself: where the script leaves the face. Every format `render` writes (videos, GIFs, folders
+    of PNGs) and `explain --json` count by this one rule.
+    """
+    count = max(1, round(duration * fps))
+    return [i / fps for i in range(count - 1)] + [duration]
 
 
 def _row(start: float, end: float, what: str) -> str:

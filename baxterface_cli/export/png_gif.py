@@ -1,12 +1,14 @@
 """Sinks that write frames to image files: a PNG image, numbered PNGs, animated GIFs.
 
-Every file is written beside its final name (see partial.py) and renamed
-into place when complete, so an interrupted render leaves no half-written
-file behind, and two renders to one name leave one of them, whole.
+Every file is written beside its final name (see core/partial_files.py), a
+folder's frames inside the folder, and renamed into place when complete, so
+an interrupted render leaves no half-written file behind, and two renders to
+one name leave one of them, whole.
 """
 
 from __future__ import annotations
 
+import contextlib
 import io
 import os
 import re
@@ -52,20 +54,29 @@ class PngStill(FrameSink):
         pass  # nothing is written before close
 
 
-FRAME_NAME = re.compile(r"^frame_\d{5,}\.png$")  # what PngFolder writes, and all it replaces
+FRAME_NAME = re.compile(r"^frame_(\d{5,})\.png$")  # what PngFolder writes, and all it replaces
 
 
 class PngFolder(FrameSink):
     """Numbered PNG frames (frame_00000.png, ...) in a folder.
 
-    Frames go to a hidden folder beside the target first and move in only
-    when the render finishes, replacing the frames of any render before.
+    Frames are written into a hidden folder inside the target first, on the target's own file
+    system whatever is mounted where (a mount point, say), and move in only when the render
+    finishes: each replaces the frame of the same number, and only then are the frames of a
+    longer render before removed. Until the last frame is drawn, the folder's frames are the old
+    ones, all of them.
     """
 
     def __init__(self, folder: Path) -> None:
         self.folder = folder
-        folder.parent.mkdir(parents=True, exist_ok=True)
-        self.staging = partial.create_folder(folder)
+        self.made = not folder.is_dir()  # a folder of our making goes again if the render fails
+        folder.mkdir(parents=True, exist_ok=True)
+        partial.remove_stale(folder)  # what a render killed here left
+        try:
+            self.staging = partial.create_folder(folder / "frames")
+        except BaseException:
+            self._forget_folder()
+            raise
         self.count = 0
 
     def add(self, frame_bgr: np.ndarray, t: float = 0.0) -> None:
@@ -74,17 +85,25 @@ class PngFolder(FrameSink):
         self.count += 1
 
     def close(self) -> None:
-        self.folder.mkdir(parents=True, exist_ok=True)
-        with _locked(self.folder):  # two renders into one folder must not mix their frames
-            for old in os.listdir(self.folder):
-                if FRAME_NAME.match(old):
-                    (self.folder / old).unlink()
-            for path in sorted(self.staging.iterdir()):
-                os.replace(path, self.folder / path.name)
-        self.staging.rmdir()
+        try:
+            with _locked(self.folder):  # two renders into one folder must not mix their frames
+                for path in sorted(self.staging.iterdir()):
+                    os.replace(path, self.folder / path.name)
+                for old in os.listdir(self.folder):
+                    match = FRAME_NAME.match(old)
+                    if match and int(match.group(1)) >= self.count:  # a longer render's, before
+                        (self.folder / old).unlink()
+        finally:
+            partial.remove(self.staging)
 
     def abort(self) -> None:
         partial.remove(self.staging)
+        self._forget_folder()
+
+    def _forget_folder(self) -> None:
+        if self.made:
+            with contextlib.suppress(OSError):
+                self.folder.rmdir()  # only if empty: whatever else came in stays
 
 
 @contextmanager

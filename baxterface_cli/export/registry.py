@@ -23,10 +23,8 @@ class Format(NamedTuple):
     describe: str
     open: Callable[[Path, Export], FrameSink]
     one_frame: bool = False  # a still image: one frame, at --at
-    # Frames 1/fps apart that last exactly the script; otherwise one more, the
-    # last at the very end (GIFs and folders, as they always were).
-    exact_length: bool = True
     frames: bool = True  # False: sound only, no frame is drawn
+    folder: bool = False  # a folder of files, written inside itself, not a file beside others
 
 
 def _gif(path: Path, export: Export) -> FrameSink:
@@ -74,7 +72,7 @@ def _still(path: Path, export: Export) -> FrameSink:
 
 FORMATS: Dict[str, Format] = {
     ".png": Format("one frame as a PNG image (the last, or the one at --at)", _still, one_frame=True),
-    ".gif": Format("a looping animated GIF", _gif, exact_length=False),
+    ".gif": Format("a looping animated GIF", _gif),
     ".mp4": Format("an H.264 video that plays everywhere", _video("h264")),
     ".webm": Format("a VP9 video for the web", _video("vp9")),
     ".webp": Format("a looping animated WebP, lossless", _video("webp")),
@@ -82,7 +80,7 @@ FORMATS: Dict[str, Format] = {
     ".bag": Format("a ROS 1 bag that `rosbag play` replays on the robot", _bag),
     ".wav": Format("the speech alone, as a WAV sound file", _wav, frames=False),
 }
-FOLDER = Format("numbered PNG frames in a folder", lambda path, export: _folder(path), exact_length=False)
+FOLDER = Format("numbered PNG frames in a folder", lambda path, export: _folder(path), folder=True)
 
 
 def _folder(path: Path) -> FrameSink:

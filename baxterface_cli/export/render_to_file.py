@@ -9,9 +9,11 @@ from ..core.face_state import FaceState
 from ..core.partial_files import remove_stale
 from ..drawing.renderer import Renderer
 from ..engine.animation import Animation
+from ..engine.explanation import frame_times as script_frame_times
 from ..speech.soundtrack import soundtrack
 from .registry import Format, format_for
 from .sink import Export
+from .target import check_target
 
 if TYPE_CHECKING:  # following is only imported by those who follow
     from ..play.rehearsal import Rehearsal
@@ -32,18 +34,13 @@ def palette_times(animation: Animation) -> List[float]:
 
 
 def frame_times(fmt: Format, animation: Animation, fps: float, at: Optional[float]) -> List[float]:
-    """When each frame is sampled: one still, or the whole script at `fps`."""
+    """When each frame is sampled: one still, or the whole script at `fps` (see `explanation.frame_times`)."""
     duration = animation.duration
     if not fmt.frames:
         return []
     if fmt.one_frame:
         return [duration if at is None else min(at, duration)]  # idle runs on past the end
-    if not fmt.exact_length:
-        return animation.timeline.frame_times(fps)
-    # `count` frames of 1/fps last the script to within half a frame; the
-    # last one shows the end itself, where the script leaves the face.
-    count = max(1, round(duration * fps))
-    return [i / fps for i in range(count - 1)] + [duration]
+    return script_frame_times(duration, fps)
 
 
 def render(
@@ -63,9 +60,9 @@ def render(
     """
     fmt = format_for(out)
     path = Path(out)
-    # Partials are written beside the target: for a folder, beside the folder.
-    path.parent.mkdir(parents=True, exist_ok=True)
-    remove_stale(path.parent)
+    # Before a frame is drawn: a render of minutes must not fail at its end for want of a folder.
+    check_target(path, folder=fmt.folder)
+    remove_stale(path.parent)  # partial files are written beside the target; a folder's, inside it
     export = Export(
         size=renderer.size,
         fps=fps,

@@ -12,6 +12,7 @@ Opus in WebM).
 from __future__ import annotations
 
 import contextlib
+import errno
 import os
 import queue
 import shutil
@@ -38,6 +39,8 @@ class Codec(NamedTuple):
     pix_fmt: str = "yuv420p"  # what every player and browser plays
     muxer: Dict[str, str] = {}
     audio_rate: int = 0  # the rate the sound encoder takes; 0: the sound's own
+    # The encoder keeps every frame until the end and writes the file then (libwebp_anim).
+    holds_frames: bool = False
 
 
 # x264's motion search at its cheapest (diamond, one refinement): a face's shapes move little
@@ -70,8 +73,57 @@ CODECS = {
         ["-lossless", "1", "-compression_level", "3", "-loop", "0"],
         pix_fmt="bgra",
         muxer={"loop": "0"},
+        holds_frames=True,
     ),
 }
+
+
+class RoomCheck:
+    """Is there room for a file that its encoder writes only at the end (WebP)?
+
+    Such a file meets a full disk after the last frame, minutes in. The file holds at least its
+    first frame, whole and lossless: half of what Pillow's quickest lossless WebP makes of it is a
+    size the file cannot be smaller than, so a disk without that much room fails at the first
+    frame, and at every second's frames after it (another writer may fill the disk meanwhile).
+    A disk that fills later still fails at the end, as every render does, with nothing left.
+    """
+
+    def __init__(self, folder: Path, fps: float) -> None:
+        self.folder = folder
+        self.every = max(1, int(round(fps)))
+        self.least = 0
+        self.frames = 0
+
+    def add(self, frame_bgr: np.ndarray) -> None:
+        if self.frames == 0:
+            self.least = _lossless_size(frame_bgr) // 2
+        if self.frames % self.every == 0 and _free_bytes(self.folder) < self.least:
+            raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+        self.frames += 1
+
+
+def _lossless_size(frame_bgr: np.ndarray) -> int:
+    import io
+
+    from PIL import Image
+
+    data = io.BytesIO()
+    try:
+        rgb = np.ascontiguousarray(frame_bgr[..., ::-1])
+        Image.fromarray(rgb, "RGB").save(data, format="WEBP", lossless=True, method=0, quality=0)
+    except (OSError, KeyError, ValueError):  # a Pillow without WebP: no bound but "some room"
+        return 1
+    return len(data.getvalue())
+
+
+def _free_bytes(folder: Path) -> int:
+    try:
+        vfs = os.statvfs(str(folder))
+    except (OSError, AttributeError):  # no statvfs (Windows): the encoder finds out
+        return 1 << 62
+    # Root may fill the blocks a file system keeps back for it.
+    free = vfs.f_bfree if hasattr(os, "geteuid") and os.geteuid() == 0 else vfs.f_bavail
+    return free * vfs.f_frsize
 
 
 def open_video_writer(path: Path, export: Export, codec: str) -> FrameSink:
@@ -131,6 +183,7 @@ class PyAvVideo(FileSink):
             self.abort()
             raise
         self.count = 0
+        self.room = RoomCheck(path.parent, export.fps) if codec.holds_frames else None
         self._frames: queue.Queue = queue.Queue(maxsize=self.QUEUED)
         self._failure: Optional[BaseException] = None
         # A daemon: whatever stops the render (Ctrl-C) never waits on it to end the program.
@@ -140,6 +193,8 @@ class PyAvVideo(FileSink):
     def add(self, frame_bgr: np.ndarray, t: float = 0.0) -> None:
         import av
 
+        if self.room is not None:
+            self.room.add(frame_bgr)
         # Copied into FFmpeg's frame here: the renderer reuses its buffer for the next frame.
         frame = av.VideoFrame.from_ndarray(np.ascontiguousarray(frame_bgr), format="bgr24")
         frame.pts = self.count
@@ -226,6 +281,7 @@ class FfmpegVideo(FileSink):
     def __init__(self, path: Path, export: Export, codec: Codec, program: str) -> None:
         super().__init__(path)
         self.file.close()
+        self.room = RoomCheck(path.parent, export.fps) if codec.holds_frames else None
         self.sound: Optional[str] = None
         width, height = export.size
         args = [program, "-hide_banner", "-loglevel", "error", "-nostdin", "-y"]
@@ -245,6 +301,8 @@ class FfmpegVideo(FileSink):
             raise
 
     def add(self, frame_bgr: np.ndarray, t: float = 0.0) -> None:
+        if self.room is not None:
+            self.room.add(frame_bgr)
         try:
             self.process.stdin.write(np.ascontiguousarray(frame_bgr).tobytes())
         except BrokenPipeError:

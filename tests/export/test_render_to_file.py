@@ -47,16 +47,20 @@ def test_gif_loops_with_the_scripts_timing_and_the_right_pictures(tmp_path):
     frames, loop, size = gif_frames(out)
     assert loop == 0 and size == (1024, 600)
     timeline = compile_script(parse(SCRIPT), seed=0)
-    expected_frames = int(timeline.duration * 30 + 1e-9) + 1
+    count = round(timeline.duration * 30)  # frames of 1/30 s that last the script
     total_ms = sum(ms for _, ms in frames)
-    assert total_ms == round(expected_frames * 100 / 30) * 10  # the true time, in GIF centiseconds
+    assert total_ms == round(count * 100 / 30) * 10  # the script's length, in GIF centiseconds
+    assert abs(total_ms / 1000 - timeline.duration) <= 0.5 / 30 + 0.005
+    times = [k / 30 for k in range(count - 1)] + [timeline.duration]  # the last: the end itself
     renderer = Renderer(Theme.default().layers((1024, 600)))
     elapsed = 0
     for rgb, ms in frames:
         k = round(elapsed / 1000 * 30)
-        want = renderer.render(timeline.sample(k / 30))[..., ::-1].astype(int)
+        want = renderer.render(timeline.sample(times[k]))[..., ::-1].astype(int)
         assert np.abs(rgb - want).mean() < 3.0, k
         elapsed += ms
+    end = renderer.render(timeline.sample(timeline.duration))[..., ::-1].astype(int)
+    assert np.abs(frames[-1][0] - end).mean() < 3.0  # it stops where the script leaves the face
 
 
 def test_same_script_and_seed_give_byte_identical_gifs(tmp_path):
@@ -76,8 +80,8 @@ def test_a_folder_gets_numbered_frames_at_the_asked_size(tmp_path):
     )
     assert run.code == 0, run.err
     names = sorted(p.name for p in folder.iterdir())
-    assert names == [f"frame_{i:05d}.png" for i in range(11)]
-    assert Image.open(folder / "frame_00010.png").size == (320, 200)
+    assert names == [f"frame_{i:05d}.png" for i in range(10)]  # 1 s at 10 fps, as a video has
+    assert Image.open(folder / "frame_00009.png").size == (320, 200)
     assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]
 
 
@@ -110,7 +114,7 @@ def test_the_script_can_come_from_a_file_or_standard_input(tmp_path):
     [
         (["-e", "hapy", "--out", "x.gif"], 1, "<-e>:1:1: error: unknown command 'hapy'"),
         (["-e", "happy", "--out", "x.avi"], 2, "must end in .png, .gif, .mp4"),
-        (["-e", "happy", "--out", "x.gif", "--size", "huge"], 2, "size must look like 1024x600"),
+        (["-e", "happy", "--out", "x.gif", "--size", "huge"], 2, "'--size': must look like 1024x600"),
         (["-e", "happy", "--out", "x.gif", "--theme", "/nonexistent"], 1, "not a theme folder"),
         (["s.face", "-e", "happy", "--out", "x.gif"], 2, "not both"),
     ],
@@ -122,9 +126,12 @@ def test_bad_requests_fail_clearly(tmp_path, args, code, message):
     assert list(tmp_path.iterdir()) == []
 
 
-def test_quiet_without_a_terminal(tmp_path):
-    run = baxterface("render", "-e", "blink", "--out", str(tmp_path / "b.gif"))
-    assert (run.code, run.out, run.err) == (0, "", "")
+def test_without_a_terminal_one_line_says_what_was_written_and_quiet_says_nothing(tmp_path):
+    out = tmp_path / "b.gif"
+    run = baxterface("render", "-e", "look 40 0 in 1s", "--out", str(out))
+    assert (run.code, run.out, run.err) == (0, "", f"wrote {out} (30 frames, 1.00 s)\n")
+    quiet = baxterface("render", "-e", "blink", "--out", str(tmp_path / "q.gif"), "-q")
+    assert (quiet.code, quiet.out, quiet.err) == (0, "", "")
 
 
 def writing_in(pid, folder):
@@ -134,7 +141,9 @@ def writing_in(pid, folder):
     for fd in fds.iterdir() if fds.is_dir() else []:
         with contextlib.suppress(OSError):
             held.append(os.readlink(str(fd)))
-    named = any(p.name.startswith(".") for p in folder.iterdir())
+    # A folder of frames has its partial folder inside itself.
+    places = [folder] + [p for p in folder.iterdir() if p.is_dir() and not p.name.startswith(".")]
+    named = any(p.name.startswith(".") for place in places for p in place.iterdir())
     return named or any(h.startswith(f"{folder}/") for h in held)
 
 
@@ -161,11 +170,14 @@ def test_a_render_killed_halfway_leaves_no_partial_file(tmp_path, signum, target
     assert proc.returncode != 0
     assert b"Traceback" not in err
     if signum == signal.SIGKILL and target.endswith("/"):
-        # A folder of frames cannot be written unnamed: a killed render leaves its hidden partial
-        # folder, and the next render into the same place clears it away.
-        assert [p.name.endswith(".baxterface-partial") for p in tmp_path.iterdir()] == [True]
-        assert baxterface("render", "-e", "blink", "--out", f"{tmp_path}/other.gif").code == 0
-        assert [p.name for p in tmp_path.iterdir()] == ["other.gif"]
+        # A folder of frames cannot be written unnamed: a killed render leaves the folder with its
+        # hidden partial folder inside, and the next render into the same place clears it away.
+        folder = tmp_path / target
+        assert [p.name for p in tmp_path.iterdir()] == [folder.name]
+        assert [p.name.endswith(".baxterface-partial") for p in folder.iterdir()] == [True]
+        again = baxterface("render", "-e", "look 40 0 in 0.2s", "--fps", "10", "--out", f"{folder}/")
+        assert again.code == 0, again.err
+        assert sorted(p.name for p in folder.iterdir()) == ["frame_00000.png", "frame_00001.png"]
         return
     assert list(tmp_path.iterdir()) == [], os.listdir(tmp_path)
 
@@ -186,7 +198,7 @@ def test_a_terminal_gets_a_progress_bar(tmp_path):
     child.close()
     assert child.exitstatus == 0
     assert "rendering" in child.before  # the bar, drawn while it worked
-    assert f"wrote {out} (91 frames, 3.00 s)" in child.before
+    assert f"wrote {out} (90 frames, 3.00 s)" in child.before
     assert out.exists()
 
 
@@ -303,7 +315,7 @@ def test_a_folder_render_replaces_only_frames_it_could_have_written(tmp_path):
     for name in keep:
         (tmp_path / name).write_bytes(b"mine")
     run = baxterface(
-        "render", "-e", "look 40 0 in 0.1s", "--size", "64x40", "--fps", "10", "--out", "./", cwd=tmp_path
+        "render", "-e", "look 40 0 in 0.2s", "--size", "64x40", "--fps", "10", "--out", "./", cwd=tmp_path
     )
     assert run.code == 0, run.err
     assert sorted(p.name for p in tmp_path.iterdir()) == sorted(keep + ["frame_00000.png", "frame_00001.png"])
@@ -318,12 +330,12 @@ def test_missing_folders_on_the_way_are_made(tmp_path, target):
 
 def test_at_past_the_end_warns_and_shows_the_last_frame(tmp_path):
     text = "look 40 0 in 1s"
-    run = baxterface("render", "-e", text, "--at", "30", "--out", str(tmp_path / "late.png"))
+    run = baxterface("render", "-e", text, "--at", "30", "--out", str(tmp_path / "late.png"), "-q")
     assert run.code == 0
     assert run.err == "baxterface render: --at 30 is past the script's end (1.00 s); showing the last frame\n"
     assert baxterface("render", "-e", text, "--out", str(tmp_path / "end.png")).code == 0
     assert (tmp_path / "late.png").read_bytes() == (tmp_path / "end.png").read_bytes()
-    at_end = baxterface("render", "-e", text, "--at", "1", "--out", str(tmp_path / "end.png"))
+    at_end = baxterface("render", "-e", text, "--at", "1", "--out", str(tmp_path / "end.png"), "-q")
     assert (at_end.code, at_end.err) == (0, "")
 
 
