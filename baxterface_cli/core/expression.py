@@ -30,7 +30,7 @@ class Expression(NamedTuple):
     brow_right_curve: float = 0.0
     lid_left: float = 1.0  # this eye's share of the lids' openness: 0 shut
     lid_right: float = 1.0
-    lid_left_angle: float = 0.0  # the lid's edge tilted: the inner corner down (a glare)
+    lid_left_angle: float = 0.0  # the lid's edge tilted: the inner corner down (a glare), < 0 the outer
     lid_right_angle: float = 0.0
     pupil_left: float = 1.0  # the pupil's size: 1 as drawn
     pupil_right: float = 1.0
@@ -137,7 +137,10 @@ CONTROLS: Dict[Tuple[str, str], Control] = {
         "the lower lids risen, as in a smile that reaches the eyes; 1 just below the pupil",
     ),
     ("eyelids", "angle"): Control(
-        _sides("lid", "angle"), -1.0, 1.0, "the edge tilted: the inner corner down (a glare), up (sorrow)"
+        _sides("lid", "angle"),
+        -1.0,
+        1.0,
+        "the edge tilted: the inner corner down (a glare), the outer down (sorrow)",
     ),
     ("eyes", ""): Control(_either("eye"), 0.8, 1.2, "the eyes' size, sockets and lids with them; 1 as drawn"),
     ("pupils", ""): Control(

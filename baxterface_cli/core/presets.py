@@ -179,13 +179,27 @@ def blend(weights: Iterable[Tuple[Expression, float]], base: Expression = DEFAUL
 
     `happy 0.6 + confused 0.4` is DEFAULT_FACE + 0.6 (happy - DEFAULT_FACE) + 0.4 (confused -
     DEFAULT_FACE), so one emotion at weight w is that emotion at intensity w, and weight 0 the
-    default face.
+    default face. One exception: the mouth's curve, where emotions that frown (sad, angry) take
+    the base's smile away faster, so that a little of them reads as a little of them.
     """
     total = list(base)
+    frowns = left = 1.0  # the share of the base not weighed out, then how much of it is not frowns
     for expression, weight in weights:
         for i, (value, origin) in enumerate(zip(expression, base)):
             total[i] += (value - origin) * weight
+        left -= weight
+        if expression.mouth_curve < 0.0 < base.mouth_curve:
+            frowns -= weight
+    if frowns < 1.0 and left > 0.0:
+        # A frown takes the base's smile away faster than it adds its own: `angry 0.3` is a milder
+        # anger, its mouth flat, not the default's smile bent a third of the way (a smile still).
+        curve = _CURVE
+        total[curve] -= base.mouth_curve * left * (1.0 - max(0.0, frowns) ** SMILE_FADE)
     return Expression(*total)
+
+
+_CURVE = Expression._fields.index("mouth_curve")
+SMILE_FADE = 5  # the smile a blend keeps shrinks as (1 - the frowns' weight) to this power
 
 
 def speech_mouth(base: Expression, shape: str) -> Expression:

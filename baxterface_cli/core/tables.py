@@ -75,6 +75,12 @@ EMOTIONS: Dict[str, EmotionSpec] = {
     "wake up": EmotionSpec(3, ("smile",), ("normal",), 1.0, 0.8),
 }
 
+# The variant (an index into EmotionSpec.variants) an intensity, a blend, a morph or a mood
+# shows of each emotion unless the script names one: the one that reads most as the emotion
+# (`sad in 1.5s` ends in a frown whatever the seed). A bare emotion picks at random, as ever.
+USUAL_VARIANT: Dict[str, int] = {name: 0 for name in EMOTIONS}
+USUAL_VARIANT.update({"angry": 1, "sad": 1})  # (angry mouth, angry brows); (sad mouth, worried)
+
 # Named look directions, in eye coordinates at 1024x600 (x positive = the
 # robot's left = the viewer's right; y positive = down). "left" is the old
 # voice command's `dynamic_look_65_0`; the others keep the same proportion of

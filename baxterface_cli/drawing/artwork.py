@@ -113,17 +113,28 @@ def draw_eyes(size: Tuple[int, int]) -> Image.Image:
     return c.image()
 
 
-LID_TILT = 30.0  # face pixels the lid's inner corner drops below its outer one at tilt 1
+# A tilted lid's edge comes down across the eye in a wedge even when the lid is open, where it
+# rests above the socket: at tilt 1 it drops LID_LOWER face pixels at its pivoting corner and
+# LID_LOWER + LID_TILT at the corner it tilts toward (a glare, or sorrow); a closed lid's edge
+# only goes further below the socket, so a shut eye stays shut. Part of the way grows as a
+# power under 1, so that a small tilt already shows.
+LID_LOWER, LID_TILT, LID_TILT_POWER = 50.0, 170.0, 0.6
 
 
 def lid_edge(x: float, cx: float, cy: float, tilt: float = 0.0, size: float = 1.0) -> float:
-    """The closed lid's lower edge: a gentle arc, lowest under the eye's centre; `tilt` drops
-    its inner corner (the one toward the face's centre line) and raises the outer one; `size`
-    scales it with its eye, about the eye's centre."""
+    """The closed lid's lower edge: a gentle arc, lowest under the eye's centre. `tilt` above 0
+    drops its inner corner (the one toward the face's centre line), below 0 its outer one, the
+    edge pivoting about the other corner; `size` scales it with its eye, about the eye's centre."""
     rx, depth = LID[0] * size, LID[1] * size
     inward = 1.0 if cx < CENTRE_X else -1.0  # which way x runs toward the centre line
-    slant = tilt * LID_TILT * size / 2 * inward * (x - cx) / rx
-    return cy + depth - LID_SAG * size * (1 - math.sqrt(max(0.0, 1 - ((x - cx) / rx) ** 2))) + slant
+    toward_inner = min(1.0, max(0.0, (1.0 + inward * (x - cx) / rx) / 2))  # 0 outer corner .. 1 inner
+    reach = toward_inner if tilt > 0 else 1.0 - toward_inner
+    drop = _tilt_share(tilt) * (LID_LOWER + LID_TILT * reach) * size
+    return cy + depth - LID_SAG * size * (1 - math.sqrt(max(0.0, 1 - ((x - cx) / rx) ** 2))) + drop
+
+
+def _tilt_share(tilt: float) -> float:
+    return min(1.0, abs(tilt)) ** LID_TILT_POWER
 
 
 def draw_lid(c: Canvas, cx: float, cy: float, tilt: float = 0.0, size: float = 1.0) -> None:
@@ -138,7 +149,7 @@ def draw_lid(c: Canvas, cx: float, cy: float, tilt: float = 0.0, size: float = 1
 def lid_window(index: int, tilt: float, size: float = 1.0) -> Tuple[float, float, float, float]:
     cx, cy = eye_centres()[index]
     rx, depth = LID[0] * size, LID[1] * size
-    low = cy + depth + abs(tilt) * LID_TILT * size / 2 + 8
+    low = cy + depth + _tilt_share(tilt) * (LID_LOWER + LID_TILT) * size + 8
     return (cx - rx - 8, cy - LID_TOP * size - 4, cx + rx + 8, low)
 
 

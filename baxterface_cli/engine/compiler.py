@@ -26,14 +26,16 @@ from ..core.presets import (
     mood_weights,
     nearest_parts,
 )
-from ..core.tables import EMOTIONS, HEAD_SPEED_RATIO, HEAD_TOP_SPEED, TIMING
+from ..core.tables import EMOTIONS, HEAD_SPEED_RATIO, HEAD_TOP_SPEED, TIMING, USUAL_VARIANT
 from ..language import syntax_tree as n
 from ..language.durations import move_seconds, statement_seconds
 from . import effects as fx
 from .effects import Cue
 from .shape_tracks import ShapeTracks
 from .statement_words import describe
+from .take_over import Carry, carry_over
 from .timeline import CROSSFADE, PartsChange, Said, Span, Speaker, Timeline, Track
+from .tracks import Owner
 
 if TYPE_CHECKING:
     from ..speech.recordings import Recordings
@@ -44,6 +46,7 @@ class _Event(NamedTuple):
     at: float
     order: int
     apply: Callable[[float], None]
+    owner: float  # when the statement that queued it began
 
 
 class _Compiler:
@@ -65,10 +68,11 @@ class _Compiler:
         self.rng = rng
         self.crossfade = crossfade
         self.start = start
-        self.eyes = Track((start.eye_x, start.eye_y))
-        self.lids = Track(start.eyelids)
-        self.head = Track(start.head_pan)
-        self.shape = ShapeTracks(expression_of(start))
+        self.owner = Owner()  # the statement being compiled, then the one whose event is applied
+        self.eyes = Track((start.eye_x, start.eye_y), self.owner)
+        self.lids = Track(start.eyelids, self.owner)
+        self.head = Track(start.head_pan, self.owner)
+        self.shape = ShapeTracks(expression_of(start), self.owner)
         self.moods: List[Tuple[float, float, float]] = []
         self.parts: List[PartsChange] = []
         self.emotions: List[Tuple[float, str]] = []
@@ -79,7 +83,12 @@ class _Compiler:
         self.exit_at: Optional[float] = None
 
     def later(self, at: float, apply: Callable[[float], None]) -> None:
-        self.events.append(_Event(at, len(self.events), apply))
+        self.events.append(_Event(at, len(self.events), apply, self.owner.at))
+
+    def run(self, events: List[_Event]) -> None:
+        for event in sorted(events, key=lambda e: (e.at, e.order)):
+            self.owner.at = event.owner
+            event.apply(event.at)
 
     def sequence(self, body: Sequence[Any], t: float) -> float:
         for statement in body:
@@ -89,6 +98,7 @@ class _Compiler:
         return t
 
     def statement(self, s: n.Statement, t: float) -> float:
+        self.owner.at = t
         end = _HANDLERS[type(s)](self, s, t)
         if not isinstance(s, (n.Block, n.Call)):  # a block's statements have spans of their own
             self.spans.append(Span(t, end, s.pos.line, describe(s)))
@@ -114,7 +124,9 @@ class _Compiler:
 
     def do_emotion(self, s: n.Emotion, t: float) -> float:
         spec = EMOTIONS[s.name]
-        mouth, brows = self.rng.choice(spec.variants)
+        mouth, brows = self.rng.choice(spec.variants)  # drawn even when named: later picks stay the same
+        if s.variant is not None:
+            mouth, brows = spec.variants[s.variant - 1]
 
         def lids_first(at: float) -> None:
             self.emotions.append((at, s.name))
@@ -126,7 +138,8 @@ class _Compiler:
         return end
 
     def do_feeling(self, s: n.Feeling, t: float) -> float:
-        self.express(s.weights, s.timing.duration, s.timing.easing, t, statement_seconds(s))
+        seconds = statement_seconds(s)
+        self.express(s.weights, s.timing.duration, s.timing.easing, t, seconds, s.variants)
         return t + statement_seconds(s)
 
     def do_mood(self, s: n.Mood, t: float) -> float:
@@ -143,13 +156,17 @@ class _Compiler:
         easing: str,
         t: float,
         lids: float,
+        variants: Sequence[Optional[int]] = (),
     ) -> None:
         """Morph to a blend of emotions, the lids with the rest, over `duration` or (None) the
-        lids' own time: an intensity shows at once, where a bare emotion moves its lids first."""
+        lids' own time: an intensity shows at once, where a bare emotion moves its lids first.
+        Each emotion shows its `variants` entry (from 1), or else its usual variant."""
         presets = []
-        for name, weight in weights:
+        for i, (name, weight) in enumerate(weights):
             spec = EMOTIONS[name]
-            mouth, brows = self.rng.choice(spec.variants)
+            self.rng.choice(spec.variants)  # drawn as it always was, so later bare emotions pick the same
+            written = variants[i] if i < len(variants) else None
+            mouth, brows = spec.variants[USUAL_VARIANT[name] if written is None else written - 1]
             presets.append((from_parts(Parts(spec.skin, mouth, brows)), weight))
         target = blend(presets)
         label = max(weights, key=lambda w: w[1])[0]
@@ -182,7 +199,7 @@ class _Compiler:
             current = self.parts[-1].parts if self.parts else self.start.parts
             nearest = nearest_parts(ending)
             if nearest != current:
-                self.parts.append(PartsChange(at, nearest, seconds))
+                self.parts.append(PartsChange(at, nearest, seconds, self.owner.at))
 
         self.later(t, apply)
 
@@ -267,7 +284,7 @@ class _Compiler:
         def apply(at: float) -> None:
             current = self.parts[-1].parts if self.parts else self.start.parts
             new = current._replace(**changed)
-            self.parts.append(PartsChange(at, new, self.crossfade))
+            self.parts.append(PartsChange(at, new, self.crossfade, self.owner.at))
             fields = [f for part in changed for f in PART_FIELDS[part]]
             goal = with_fields(self.shape.value(at), from_parts(new), fields)
             self.shape.move(at, self.crossfade, goal, fields=fields)
@@ -375,6 +392,7 @@ def compile_script(
     crossfade: Optional[float] = None,
     speak: Optional[Speaker] = None,
     recordings: Optional[Recordings] = None,
+    carry: Optional[Carry] = None,
 ) -> Timeline:
     """Compile a parsed script; the same script and seed give the same timeline.
 
@@ -384,16 +402,18 @@ def compile_script(
     loaded when a script says something (`extras.MissingTool` without it).
     `say file` reads from `recordings`, by default the script's folder, any
     path in it (`speech.recordings.RecordingError` for a file it cannot say):
-    give texts from elsewhere (a network) a confined one.
+    give texts from elsewhere (a network) a confined one. `carry` lets the statements begun in
+    a timeline this one takes over from finish what they started (a live face's commands).
     """
     if crossfade is None:
         crossfade = 0.0 if script.legacy else CROSSFADE
     compiler = _Compiler(
         script, random.Random(seed), start or FaceState(), crossfade, speak or _engine_say, recordings
     )
+    if carry is not None:
+        carry_over(compiler, carry)
     end = compiler.sequence(script.body, 0.0)
-    for event in sorted(compiler.events, key=lambda e: (e.at, e.order)):
-        event.apply(event.at)
+    compiler.run(compiler.events)
     tails = [end, compiler.eyes.end, compiler.lids.end, compiler.head.end, compiler.shape.end]
     tails += [c.at + c.fade for c in compiler.parts]
     tails += [c.at + c.effect.duration for c in compiler.cues]

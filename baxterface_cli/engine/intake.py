@@ -143,13 +143,17 @@ class Intake:
             script = parse(text, self.filename)
         except ScriptError as e:
             return Prepared(queued, None, e, generation)
-        start = self._queue_end() if queued else self.live.base_state(self.clock())
         try:
-            timeline = self.live.prepare(script, start)
+            if queued:
+                timeline = self.live.prepare(script, self._queue_end())
+            else:
+                timeline = self.live.take_over(script, self.clock())
         except MissingTool as e:  # `say` on a machine without a speech engine: refused, not fatal
             return Prepared(queued, None, ScriptError([Diagnostic(0, 0, str(e))], self.filename), generation)
         except RecordingError as e:  # `say file` of a recording that cannot be read, or not from here
             return Prepared(queued, None, ScriptError([e.diagnostic()], self.filename, text), generation)
+        except ScriptError as e:  # the same, found before compiling, or too long with its recordings
+            return Prepared(queued, None, e, generation)
         return Prepared(queued, timeline, None, generation)
 
     def _queue_end(self):

@@ -16,10 +16,11 @@ from typing import TYPE_CHECKING, Deque, List, Optional
 
 from ..core.face_state import FaceState
 from ..core.tables import EMOTIONS
+from ..language.diagnostics import ScriptError
 from ..language.parser import parse
 from ..language.syntax_tree import Script
 from .animation import Idle
-from .compiler import compile_script
+from .compiler import Carry, compile_script
 from .effects import Cue, RobotStatus, StatusFold
 from .timeline import Timeline
 
@@ -78,20 +79,32 @@ class LiveFace:
         """Run `text` from now (or after what is playing, with `queue`); ScriptError if it is bad."""
         script = parse(text, filename)
         queued = queue and not self.finished(now)
-        timeline = self.prepare(script, self.queue_end() if queued else self.base_state(now))
+        timeline = self.prepare(script, self.queue_end()) if queued else self.take_over(script, now)
         if queued:
             self.enqueue(timeline)
         else:
             self.begin(timeline, now)
         return script
 
-    def prepare(self, script: Script, start: FaceState) -> Timeline:
+    def prepare(self, script: Script, start: FaceState, carry: Optional[Carry] = None) -> Timeline:
         """Compile `script` to start from `start`; safe from another thread."""
         if self.recordings is None:
             from ..speech.recordings import Recordings
 
             self.recordings = Recordings(None)
-        return compile_script(script, seed=self.rng.randrange(2**32), start=start, recordings=self.recordings)
+        # A recording's length is in its header, which parsing does not read: the length limit with it.
+        unsaid = self.recordings.check(script) if "file" in script.source.lower() else []
+        if unsaid:
+            raise ScriptError(unsaid, script.filename, script.source)
+        seed = self.rng.randrange(2**32)
+        return compile_script(script, seed=seed, start=start, recordings=self.recordings, carry=carry)
+
+    def take_over(self, script: Script, now: float) -> Timeline:
+        """Compile `script` to take over at `now` from the face as it is then, the statements
+        already begun finishing what they started (`sad`'s mouth after its lids, a wink's
+        reopening): the face shows what its state says. Safe from another thread."""
+        timeline, started = self._playing
+        return self.prepare(script, timeline.sample(now - started), Carry(timeline, now - started))
 
     def begin(self, timeline: Timeline, now: float) -> None:
         """Play `timeline` from `now`, dropping what was playing and what was queued."""

@@ -9,14 +9,14 @@ from __future__ import annotations
 from typing import Iterable, List, Optional
 
 from ..core.expression import Expression
-from .tracks import Track
+from .tracks import Owner, Track
 
 
 class ShapeTracks:
     """An `Expression` over time: a `Track` per field."""
 
-    def __init__(self, initial: Expression) -> None:
-        self.tracks: List[Track] = [Track(v) for v in initial]
+    def __init__(self, initial: Expression, owner: Optional[Owner] = None) -> None:
+        self.tracks: List[Track] = [Track(v, owner) for v in initial]
         self._initial = initial
 
     def value(self, t: float) -> Expression:
@@ -46,6 +46,11 @@ class ShapeTracks:
         return any(
             track.busy(start, end) for name, track in zip(Expression._fields, self.tracks) if name in named
         )
+
+    def carry(self, old: ShapeTracks, at: float) -> None:
+        """Each field's `Track.carry`."""
+        for track, before in zip(self.tracks, old.tracks):
+            track.carry(before, at)
 
     @property
     def end(self) -> float:

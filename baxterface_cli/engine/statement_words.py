@@ -18,7 +18,7 @@ def describe(s: Any) -> str:
         return f" in {seconds:g}s" + ("" if easing == "linear" else f" {easing}")
 
     if isinstance(s, n.Emotion):
-        return s.name
+        return s.name + ("" if s.variant is None else f" variant {s.variant}")
     if isinstance(s, n.Look):
         kind = "dynamic look" if s.dynamic else "look"
         return f"{kind} {s.x:g} {s.y:g}{timed(s)}"
@@ -35,9 +35,12 @@ def describe(s: Any) -> str:
     if isinstance(s, n.Brows):
         return f"brows {s.side + ' ' if s.side else ''}{s.name}"
     if isinstance(s, n.Feeling):
+        variants = list(s.variants) + [None] * (len(s.weights) - len(s.variants))
         blend = " + ".join(
-            name.replace(" ", "_") + ("" if len(s.weights) == 1 and weight == 1 else f" {weight:g}")
-            for name, weight in s.weights
+            name.replace(" ", "_")
+            + ("" if variant is None else f" variant {variant}")
+            + ("" if len(s.weights) == 1 and weight == 1 else f" {weight:g}")
+            for (name, weight), variant in zip(s.weights, variants)
         )
         return blend + (timed(s) if s.timing.duration is not None else "")
     if isinstance(s, n.Mood):

@@ -46,6 +46,7 @@ class PartsChange(NamedTuple):
     at: float
     parts: Parts
     fade: float  # seconds
+    owner: float = float("-inf")  # when the statement that made it began
 
 
 class Said(NamedTuple):

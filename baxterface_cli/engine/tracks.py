@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import bisect
-from typing import Any, List, NamedTuple
+from typing import Any, List, NamedTuple, Optional
 
 from ..core.easing import EASINGS, Easing
 
@@ -21,6 +21,9 @@ class Piece(NamedTuple):
     end_value: Any
     easing: Easing  # looked up once, when the move is made: sampling only calls it
     until: float = float("inf")
+    # When the statement that made the move began: a command that takes over lets the moves of
+    # statements already begun run their course (see `Track.carry`).
+    owner: float = float("-inf")
 
     def at(self, t: float) -> Any:
         t = min(t, self.until)
@@ -34,11 +37,21 @@ class Piece(NamedTuple):
         return min(self.end, self.until)
 
 
+class Owner:
+    """The start of the statement whose moves are being made: the compiler sets it, tracks read it."""
+
+    __slots__ = ("at",)
+
+    def __init__(self) -> None:
+        self.at = float("-inf")
+
+
 class Track:
     """One animated value: held between pieces, eased within them."""
 
-    def __init__(self, initial: Any) -> None:
+    def __init__(self, initial: Any, owner: Optional[Owner] = None) -> None:
         self.initial = initial
+        self.owner = owner
         self.pieces: List[Piece] = []
         self._starts: List[float] = []
 
@@ -53,8 +66,24 @@ class Track:
         if i > 0 and self.pieces[i - 1].stop > start:  # interrupt the move under way
             self.pieces[i - 1] = self.pieces[i - 1]._replace(until=start)
         del self.pieces[i:], self._starts[i:]  # and drop moves queued after it
-        self.pieces.append(Piece(start, start + max(0.0, duration), current, target, EASINGS[easing]))
+        owner = float("-inf") if self.owner is None else self.owner.at
+        self.pieces.append(
+            Piece(start, start + max(0.0, duration), current, target, EASINGS[easing], owner=owner)
+        )
         self._starts.append(start)
+
+    def carry(self, old: Track, at: float) -> None:
+        """Take on, shifted to start at `at` on `old`'s clock, the moves of `old` that statements
+        begun by then made and that have not finished: the rest of a move under way, and what a
+        begun statement still has to do (a wink's reopening, an emotion's parts after its lids).
+        Call before any move of this track's own."""
+        kept = [p for p in old.pieces if p.owner <= at and p.stop > at]
+        starts = {p.start for p in kept}
+        for p in kept:
+            # Cut short only by a move that is carried too: one of a statement not begun is dropped.
+            until = p.until if p.until in starts else float("inf")
+            self.pieces.append(p._replace(start=p.start - at, end=p.end - at, until=until - at))
+            self._starts.append(p.start - at)
 
     def busy(self, start: float, end: float) -> bool:
         """Does any piece move the track during [start, end)?"""

@@ -32,7 +32,7 @@ from ..core.voices import RATES, known_voice, voice_names
 from ..resources import resource
 from . import syntax_tree as n
 from .diagnostics import Diagnostic, Hints, one_of
-from .expression_rules import ExpressionRules
+from .expression_rules import ExpressionRules, _is_name
 from .vocabulary import BARE_WORDS, LEGACY_USAGE, LEGACY_WORDS
 
 _ESCAPE = re.compile(r"\\(.)", re.S)
@@ -286,6 +286,8 @@ class _Builder(ExpressionRules, Transformer):
 
     def brows(self, children: List[Any]) -> Any:
         at, *rest = children
+        if len(rest) > 1 and _is_name(rest[0]) and _is_name(rest[1]):
+            self._mistyped_side("brows", rest)
         side = rest.pop(0) if isinstance(rest[0], str) and not isinstance(rest[0], Token) else ""
         if len(rest) == 1:
             named = "normal" if self._wants_number("brows", rest[0]) else self._known(rest[0], BROWS, "brows")
@@ -294,6 +296,8 @@ class _Builder(ExpressionRules, Transformer):
 
     def eyelids(self, children: List[Any]) -> Any:
         at, *rest = children
+        if len(rest) > 2 and _is_name(rest[0]) and _is_name(rest[1]):
+            self._mistyped_side("eyelids", rest)
         side = rest.pop(0) if not isinstance(rest[0], Token) else ""
         if len(rest) > 1 and isinstance(rest[1], Token):  # a control's name: `eyelids left angle 0.5`
             return self._adjust("eyelids", [at, *rest], side)

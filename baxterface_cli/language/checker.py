@@ -6,13 +6,13 @@ tokens are; what needs the whole script happens here.
 
 from __future__ import annotations
 
-import math
-from typing import Any, Dict, Iterator, List, Optional, Sequence, Set, Tuple
+from typing import Any, Callable, Dict, Iterator, List, Optional, Sequence, Set, Tuple
 
 from ..core.tables import LIMITS
 from . import syntax_tree as n
 from .diagnostics import Diagnostic, Hints, shortened
 from .durations import statement_seconds
+from .script_length import in_words, over_limit
 from .vocabulary import BARE_WORDS, KEYWORDS, LEGACY_USAGE
 
 
@@ -145,51 +145,73 @@ def _call_order(definitions: Dict[str, n.Define], out: List[Diagnostic]) -> Any:
 
 
 Measure = Tuple[float, int]  # (seconds, steps once unrolled)
+Seconds = Callable[[Any], float]  # how long one simple statement takes
 
 
-def measure(body: Sequence[Any], called: Dict[str, Measure]) -> Measure:
+def measure(body: Sequence[Any], called: Dict[str, Measure], timed: Seconds = statement_seconds) -> Measure:
     """Length and unrolled size of a sequence; `called` measures definitions."""
     seconds, steps = 0.0, 0
     for statement in body:
-        s, k = _measure_one(statement, called)
+        s, k = _measure_one(statement, called, timed)
         seconds, steps = seconds + s, steps + k
     return seconds, steps
 
 
-def _measure_one(statement: Any, called: Dict[str, Measure]) -> Measure:
+def _measure_one(statement: Any, called: Dict[str, Measure], timed: Seconds = statement_seconds) -> Measure:
     if isinstance(statement, n.Define):
         return 0.0, 0
     if isinstance(statement, n.Call):
         return called.get(statement.name, (0.0, 0))
     if isinstance(statement, n.Repeat):
-        seconds, steps = measure(statement.body, called)
+        seconds, steps = measure(statement.body, called, timed)
         return statement.count * seconds, statement.count * steps
     if isinstance(statement, n.Together):
-        parts = [_measure_one(child, called) for child in statement.body]
+        parts = [_measure_one(child, called, timed) for child in statement.body]
         return max((p[0] for p in parts), default=0.0), sum(p[1] for p in parts)
-    return statement_seconds(statement), 1
+    return timed(statement), 1
+
+
+def check_length(body: Sequence[Any], recorded: Seconds) -> List[Diagnostic]:
+    """The length limit again, with each `say file` as long as `recorded(say)` says (its header:
+    speech/recordings.py reads it, the language cannot); for a script that passed `check`."""
+    definitions = {s.name: s for s in body if isinstance(s, n.Define)}
+    order = _call_order(definitions, [])
+    out: List[Diagnostic] = []
+
+    def timed(statement: Any) -> float:
+        if isinstance(statement, n.Say) and statement.file is not None:
+            return recorded(statement)
+        return statement_seconds(statement)
+
+    if order is not None:
+        _check_limits(body, definitions, order, out, timed)
+    return out
 
 
 def _check_limits(
-    body: Sequence[Any], definitions: Dict[str, n.Define], order: List[str], out: List[Diagnostic]
+    body: Sequence[Any],
+    definitions: Dict[str, n.Define],
+    order: List[str],
+    out: List[Diagnostic],
+    timed: Seconds = statement_seconds,
 ) -> None:
     called: Dict[str, Measure] = {}
     for name in order:
-        called[name] = measure(definitions[name].body, called)
+        called[name] = measure(definitions[name].body, called, timed)
     seconds, steps = 0.0, 0
     for statement in body:
-        s, k = _measure_one(statement, called)
+        s, k = _measure_one(statement, called, timed)
         seconds, steps = seconds + s, steps + k
-        if seconds > LIMITS.max_seconds:
-            total = measure(body, called)[0]
+        if over_limit(seconds):
+            total = measure(body, called, timed)[0]
             _error(
                 out,
                 statement,
-                f"the script runs {_duration(total)}; the limit is {_duration(LIMITS.max_seconds)}",
+                f"the script runs {in_words(total)}; the limit is {in_words(LIMITS.max_seconds)}",
             )
             return
         if steps > LIMITS.max_steps:
-            total_steps = measure(body, called)[1]
+            total_steps = measure(body, called, timed)[1]
             _error(
                 out, statement, f"the script unrolls to {total_steps} steps; the limit is {LIMITS.max_steps}"
             )
@@ -267,12 +289,3 @@ def _exit_line(body: Sequence[Any], ends: Dict[str, int], out: List[Diagnostic])
         elif isinstance(statement, (n.Repeat, n.Together)):
             ended = _exit_line(statement.body, ends, out)
     return ended
-
-
-def _duration(seconds: float) -> str:
-    """`3601` as "1 hour 1 minute": minutes rounded up, so a script over the limit never reads as on it."""
-    if seconds < 60:
-        return f"{seconds:.3g} s"
-    hours, minutes = divmod(math.ceil(seconds / 60), 60)
-    parts = [(hours, "hour"), (minutes, "minute")]
-    return " ".join(f"{n} {unit}" + ("" if n == 1 else "s") for n, unit in parts if n)

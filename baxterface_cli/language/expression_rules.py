@@ -7,15 +7,30 @@ rules, and the skin, mouth, brows and eyelids rules' numeric forms.
 
 from __future__ import annotations
 
-from typing import Any, List
+from typing import Any, List, Optional
 
 from lark import Token
 
 from ..core.expression import CONTROLS
 from ..core.tables import EMOTIONS, MOUTHS
 from . import syntax_tree as n
-from .diagnostics import shortened
+from .diagnostics import one_of, shortened
 from .vocabulary import BARE_WORDS, KEYWORDS
+
+
+class _Variant:
+    """`variant N` after an emotion's name, for `feeling` to read."""
+
+    def __init__(self, token: Token) -> None:
+        self.token = token
+
+
+SIDES = ("left", "right")
+
+
+def _is_name(child: Any) -> bool:
+    return isinstance(child, Token) and child.type == "NAME"
+
 
 # The emotions as a script writes them (`wake_up`), each with its table name ("wake up").
 EMOTION_WORDS = {name.replace(" ", "_"): name for name in EMOTIONS}
@@ -37,7 +52,7 @@ class ExpressionRules:
         """`mouth curve 0.5 in 1s`: one number of the expression, checked against CONTROLS."""
         at, name, amount, *rest = children
         controls = [c for p, c in CONTROLS if p == part]
-        control = "" if name is None else self._known(name, controls, f"{part} control")
+        control = "" if name is None else self._control(part, name, controls, side)
         spec = CONTROLS.get((part, control))
         value = self._number(amount, "openness", f"{part} {control}".strip())
         if spec is not None and value is not None and not spec.low <= value <= spec.high:
@@ -46,6 +61,27 @@ class ExpressionRules:
         if spec is not None and side not in spec.sides:
             self._error(at, f"{part} {control} takes no side: it is one number for the whole face")
         return n.Adjust(part, control, value or 0.0, side, rest[0] if rest else n.Timing(), pos=self._pos(at))
+
+    def _mistyped_side(self, part: str, rest: List[Any]) -> None:
+        """`brows lft raised`: drop the word where a side belongs, and say what it should be."""
+        token = rest.pop(0)
+        word = str(token).lower()
+        if word == "both":
+            self._error(token, f"'both' is not a side: leave the side out for both {part}")
+        else:
+            hint = self.hints(word, SIDES) or f"; use {one_of(SIDES)}, or no side for both {part}"
+            self._error(token, f"unknown side '{shortened(word)}'{hint}")
+
+    def _control(self, part: str, name: Token, controls: List[str], side: str) -> str:
+        """A control's name; a word that is none, reported with a hint (a side's, `eyelids lft 0.5`)."""
+        word = str(name).lower()
+        if word in controls:
+            return word
+        named = [c for c in controls if c]
+        sides = list(SIDES) if part in ("brows", "eyelids") and not side else []
+        hint = self.hints(word, named + sides) or f"; use {one_of(named + sides)}"
+        self._error(name, f"unknown {part} control '{shortened(word)}'{hint}")
+        return word
 
     def pupils(self, children: List[Any]) -> n.Adjust:
         return self._sized("pupils", children)
@@ -62,12 +98,25 @@ class ExpressionRules:
     def side(self, children: List[Token]) -> str:
         return str(children[0]).lower()
 
+    def variant(self, children: List[Token]) -> _Variant:
+        return _Variant(children[1])
+
     def feeling(self, children: List[Any]) -> Any:
         timing = children.pop() if isinstance(children[-1], n.Timing) else None
         at = children[0]
-        weights = []
-        amounts = children[1::2] or [None]  # `sad in 1.5s`: full strength
-        for name, amount in zip(children[::2], amounts):
+        # Each emotion as (its name, its `variant N` or None, its intensity or None: full strength).
+        written: List[List[Any]] = []
+        for child in children:
+            if isinstance(child, _Variant):
+                if written[-1][1] is not None:
+                    self._error(child.token, "an emotion takes one 'variant'")
+                written[-1][1] = child.token
+            elif child.type == "QUANTITY":
+                written[-1][2] = child
+            else:
+                written.append([child, None, None])
+        weights, variants = [], []
+        for name, variant, amount in written:
             word = str(name).lower()
             if word in EMOTION_WORDS:
                 emotion = EMOTION_WORDS[word]
@@ -81,12 +130,31 @@ class ExpressionRules:
             if word in EMOTION_WORDS and weight is not None and not 0.0 <= weight <= 1.0:
                 self._error(amount, f"an intensity must be from 0 to 1, not {amount}")
             weights.append((emotion, weight or 0.0))
+            variants.append(
+                None if variant is None else self._variant(variant, emotion, word in EMOTION_WORDS)
+            )
         if len(weights) > 1 and sum(w for _, w in weights) > 1.0 + 1e-9:
-            self._error(children[1], "the intensities of a blend add up to at most 1")
+            self._error(written[0][2], "the intensities of a blend add up to at most 1")
+        chosen = tuple(variants) if any(v is not None for v in variants) else ()
         if timing is None and len(weights) == 1 and weights[0][1] in (0.0, 1.0):
             # `happy 1` is `happy`, and `happy 0` the face with no emotion: `default`.
-            return n.Emotion(weights[0][0] if weights[0][1] == 1.0 else "default", pos=self._pos(at))
-        return n.Feeling(tuple(weights), timing or n.Timing(), pos=self._pos(at))
+            if weights[0][1] == 0.0:
+                return n.Emotion("default", pos=self._pos(at))
+            return n.Emotion(weights[0][0], pos=self._pos(at), variant=variants[0])
+        return n.Feeling(tuple(weights), timing or n.Timing(), pos=self._pos(at), variants=chosen)
+
+    def _variant(self, token: Token, emotion: str, known: bool) -> Optional[int]:
+        """`variant N`'s N, checked against the emotion's variants; None after an error."""
+        count = len(EMOTIONS[emotion].variants)
+        value = self._number(token, "count", "a variant")
+        if value is None or not known:
+            return None
+        if value != int(value) or not 1 <= value <= count:
+            word = emotion.replace(" ", "_")
+            choices = {1: "only variant 1", 2: "variants 1 and 2"}.get(count, f"variants 1 to {count}")
+            self._error(token, f"'{word}' has {choices}, not {token}")
+            return None
+        return int(value)
 
     def mood(self, children: List[Any]) -> n.Mood:
         at, valence_token, arousal_token, *rest = children

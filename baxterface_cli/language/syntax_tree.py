@@ -65,10 +65,12 @@ class Timing:
 
 @dataclass(frozen=True)
 class Emotion(Statement):
-    """An emotion, `sleep` or `wake up`: lids first, then skin, mouth and brows."""
+    """An emotion, `sleep` or `wake up`: lids first, then skin, mouth and brows. `variant` is
+    the (mouth, brows) pair written (`sad variant 2`), from 1; None picks one at random."""
 
     name: str
     pos: Pos = _pos()
+    variant: Optional[int] = None
 
 
 @dataclass(frozen=True)
@@ -80,6 +82,9 @@ class Feeling(Statement):
     weights: Tuple[Tuple[str, float], ...]  # (emotion, weight), as written
     timing: Timing = Timing()
     pos: Pos = _pos()
+    # Each emotion's variant as written (from 1), None where none is: then its usual one
+    # (tables.USUAL_VARIANT). Empty when the script names none.
+    variants: Tuple[Optional[int], ...] = ()
 
 
 @dataclass(frozen=True)
@@ -281,6 +286,8 @@ def to_json(node: Any) -> Any:
     for f in dataclasses.fields(node):
         if f.name in ("pos", "file_pos", "warnings", "source", "legacy", "more_warnings"):
             continue
+        if f.name in ("variant", "variants") and not getattr(node, f.name):
+            continue  # only where written, so that scripts without variants print as they always have
         out[f.name] = to_json(getattr(node, f.name))
     pos = getattr(node, "pos", None)
     if pos is not None:

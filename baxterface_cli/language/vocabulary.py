@@ -73,4 +73,5 @@ KEYWORDS: Tuple[str, ...] = (
     "wink",
     "pupils",
     "eyes",
+    "variant",
 )

@@ -65,7 +65,7 @@ class ScreenFace:
         script = parse(text, filename)
         now = self.clock()
         # Compiled without the lock, which every frame needs; from the face as it is now.
-        timeline = self.live.prepare(script, self.live.base_state(now))
+        timeline = self.live.take_over(script, now)
         with self.lock:
             self._begin(timeline, now)
         return {"duration": round(timeline.duration, 3)}

@@ -181,21 +181,33 @@ def test_pupils_grow_and_shrink_each_on_its_own(layers):
     assert dark_in_eye(small_, 0) < 0.6 * dark_in_eye(plain, 0)
 
 
-def lid_edge_rows(frame: np.ndarray, x: int) -> int:
-    """The lowest row of lid colour down column x, above the eye's middle."""
+def lid_rows(frame: np.ndarray, x: int) -> np.ndarray:
+    """The rows of lid colour down column x, inside the socket (70 pixels either side of the
+    eye's middle, the socket's top is at row 147) and above the eye's middle."""
     lid = np.array((126, 172, 226))  # LID_COLOR in B, G, R
-    rows = np.flatnonzero(np.abs(frame[60:255, x].astype(int) - lid).max(axis=1) < 30)
-    return 60 + int(rows.max())
+    return 160 + np.flatnonzero(np.abs(frame[160:255, x].astype(int) - lid).max(axis=1) < 30)
 
 
-def test_a_tilted_lid_drops_its_inner_corner(layers):
+@pytest.mark.parametrize("openness", [1.0, 0.8])
+def test_a_tilted_lid_drops_its_inner_corner_across_the_eye_even_when_open(layers, openness):
     glare = emotion_preset("default")._replace(lid_left_angle=1.0, lid_right_angle=1.0)
-    frame = compose(layers, FaceState(eyelids=0.5, expression=glare))
-    level = compose(layers, FaceState(eyelids=0.5, expression=emotion_preset("default")))
+    frame = compose(layers, FaceState(eyelids=openness, expression=glare))
+    level = compose(layers, FaceState(eyelids=openness, expression=emotion_preset("default")))
     # The viewer's left eye: its inner corner is on its right, toward the face's middle.
-    inner, outer = lid_edge_rows(frame, 312 + 70), lid_edge_rows(frame, 312 - 70)
-    assert inner - outer > 15
-    assert abs(lid_edge_rows(level, 312 + 70) - lid_edge_rows(level, 312 - 70)) <= 2
+    inner, outer = lid_rows(frame, 312 + 70), lid_rows(frame, 312 - 70)
+    assert len(inner) and inner.max() - (outer.max() if len(outer) else 160) > 15
+    assert not len(lid_rows(level, 312 + 70)) and not len(lid_rows(level, 312 - 70))
+
+
+def test_a_sorrowful_tilt_drops_the_outer_corner_and_a_shut_lid_stays_shut(layers):
+    sorrow = emotion_preset("default")._replace(lid_left_angle=-1.0, lid_right_angle=-1.0)
+    frame = compose(layers, FaceState(expression=sorrow))
+    inner, outer = lid_rows(frame, 312 + 70), lid_rows(frame, 312 - 70)
+    assert len(outer) and outer.max() - (inner.max() if len(inner) else 160) > 15
+    shut = compose(layers, FaceState(eyelids=0.0, expression=emotion_preset("default")))
+    for tilt in (-1.0, 1.0):
+        tilted = emotion_preset("default")._replace(lid_left_angle=tilt, lid_right_angle=tilt)
+        assert np.array_equal(compose(layers, FaceState(eyelids=0.0, expression=tilted)), shut)
 
 
 def test_the_cached_renderer_keeps_up_with_pupils_and_tilts(layers):

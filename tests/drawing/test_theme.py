@@ -123,7 +123,7 @@ def test_theme_export_from_the_command_line(tmp_path):
     assert baxterface("theme", "check", str(tmp_path / "t")).code == 0
     assert json.loads((tmp_path / "t" / "theme.json").read_text())["size"] == [320, 200]
     bad = baxterface("theme", "export", str(tmp_path / "u"), "--size", "big")
-    assert bad.code == 2 and "size must look like 1024x600" in bad.err
+    assert bad.code == 2 and "'--size': must look like 1024x600" in bad.err
 
 
 @pytest.mark.parametrize("text, size", [("1024x600", (1024, 600)), ("1920X1200", (1920, 1200))])

@@ -179,7 +179,7 @@ def test_a_head_angle_beyond_the_limit_warns():
         ("repeat 2 { define d { blink } }", (1, 12), "only allowed at the top level"),
         ("define a { b }\ndefine b { a }\na", (1, 1), "'a' calls itself (a -> b -> a)"),
         ("define a { repeat 2 { a } }\na", (1, 1), "'a' calls itself (a -> a)"),
-        ("wait 3601s", (1, 1), "the script runs 1 hour 1 minute; the limit is 1 hour"),
+        ("wait 3601s", (1, 1), "the script runs 1 hour 1 s; the limit is 1 hour"),
         ("repeat 10000 { repeat 10000 { skin 1 } }", (1, 1), "unrolls to 100000000 steps"),
         ("look 1e400 0", (1, 7), "unknown unit 'e400' for an eye coordinate"),
         ("look 1" + "0" * 400 + " 0", (1, 6), "an eye coordinate is too large"),
@@ -202,12 +202,12 @@ def test_an_unknown_command_is_reported_beside_a_syntax_error_on_its_line():
     found = errors("happy\nblinkk left\nrepeat 2 { hapy 3 }")
     assert found == [
         (2, 1, "unknown command 'blinkk'; did you mean 'blink'?"),
-        (2, 8, "unexpected 'left'; expected ';', 'in', '}', a new line or a number"),
+        (2, 8, "unexpected 'left'; expected ';', 'in', 'variant', '}', a new line or a number"),
         (3, 12, "unknown command 'hapy'; did you mean 'happy'?"),
     ]
     # A known word stays quiet: only what is really wrong is said.
     assert errors("define wave { blink }\nwave left; happy 3") == [
-        (2, 6, "unexpected 'left'; expected ';', 'in', '}', a new line or a number"),
+        (2, 6, "unexpected 'left'; expected ';', 'in', 'variant', '}', a new line or a number"),
         (2, 18, "an intensity must be from 0 to 1, not 3"),
     ]
 

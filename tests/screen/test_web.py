@@ -18,6 +18,7 @@ import numpy as np
 import pytest
 
 from studio_server import running_screen
+from waiting import eventually
 
 pytestmark = pytest.mark.xdist_group("screen_web")
 TOKEN = "screen-test-token-0123456789"
@@ -119,6 +120,8 @@ def test_the_script_waits_for_the_first_page(screen):
 
 def test_a_command_changes_the_frame_and_a_bad_one_gets_a_400_with_diagnostics(screen):
     assert screen.json("POST", "/api/command", "look_-60_0_0")[0] == 200  # the old node's: at once
+    # What the first script began (sad's mouth after its lids) finishes first; at rest, a look is at once.
+    eventually(lambda: not screen.json("GET", "/api/state")[1]["playing"])
     before = decoded(screen.frame())
     status, answer = screen.json("POST", "/api/command", "look_60_0_0")
     assert status == 200 and answer == {"duration": 0.0}

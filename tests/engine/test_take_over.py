@@ -1,0 +1,84 @@
+"""A command that takes over lets what the face already began finish: its state tells what it shows."""
+
+from __future__ import annotations
+
+import time
+
+import pytest
+
+from baxterface_cli.core.presets import emotion_preset
+from baxterface_cli.core.tables import EMOTIONS
+from baxterface_cli.engine.intake import Intake
+from baxterface_cli.engine.live_face import LiveFace
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_a_wink_just_after_an_emotion_lets_the_face_become_that_emotion(seed):
+    live = LiveFace(idle=False, seed=seed)
+    live.command("happy", now=0.0)
+    live.command("sad", now=2.0)
+    live.command("wink left", now=2.1)  # while sad's lids move, before its mouth changes
+    shown = live.state(5.0)
+    assert shown.emotion == "sad"
+    assert shown.skin == EMOTIONS["sad"].skin
+    assert (shown.mouth, shown.brows) in EMOTIONS["sad"].variants
+    sad_mouths = {emotion_preset("sad", v).mouth_curve for v in range(len(EMOTIONS["sad"].variants))}
+    assert shown.expression.mouth_curve in sad_mouths
+    assert live.state(2.2).expression.lid_left < 0.5  # and the wink winks
+    assert shown.expression.lid_left == 1.0
+
+
+def test_a_wink_still_reopens_when_a_command_comes_while_it_is_shut():
+    live = LiveFace(idle=False, seed=1)
+    live.command("wink right", now=0.0)
+    live.command("happy", now=0.2)
+    assert live.state(0.25).expression.lid_right == 0.0
+    assert live.state(2.0).expression.lid_right == 1.0
+
+
+def test_a_morph_under_way_finishes_under_a_command_that_moves_other_numbers():
+    live = LiveFace(idle=False, seed=1)
+    live.command("mouth curve -1 in 1s", now=0.0)
+    live.command("brows height 1 in 1s", now=0.5)
+    later = live.state(3.0).expression
+    assert later.mouth_curve == pytest.approx(-1.0)
+    assert later.brow_left_height == pytest.approx(1.0)
+
+
+def test_a_command_moving_the_same_number_takes_over_from_where_it_has_got_to():
+    live = LiveFace(idle=False, seed=1)
+    live.command("mouth curve -1 in 1s", now=0.0)  # from the default's 1
+    live.command("mouth curve 1 in 1s", now=0.5)
+    assert live.state(0.5).expression.mouth_curve == pytest.approx(0.0)
+    assert live.state(3.0).expression.mouth_curve == pytest.approx(1.0)
+
+
+def test_statements_not_yet_begun_are_dropped():
+    live = LiveFace(idle=False, seed=1)
+    live.command("wait 1s; look 40 0 in 0.5s; sad", now=0.0)
+    live.command("wink left", now=0.5)
+    assert live.state(5.0).eye_x == 0.0
+    assert live.state(5.0).emotion != "sad"
+
+
+def test_the_node_intake_takes_over_the_same_way():
+    now = [0.0]
+    live = LiveFace(idle=False, seed=0, now=0.0)
+    intake = Intake(live, lambda: now[0])
+
+    def send(text):
+        assert intake.submit(text) is None
+        deadline = time.monotonic() + 60
+        while not intake.idle():  # prepared on the intake's thread
+            assert time.monotonic() < deadline, "the intake did not finish"
+            time.sleep(0.01)
+        intake.hand_over(now[0], warn=pytest.fail, error=pytest.fail)
+
+    send("happy")
+    now[0] = 2.0
+    send("sad")
+    now[0] = 2.1
+    send("wink left")
+    shown = live.state(5.0)
+    assert shown.emotion == "sad" and shown.skin == EMOTIONS["sad"].skin
+    intake.close()
