@@ -50,7 +50,15 @@ def test_the_legacy_table_is_right_and_complete():
 
 # Commands these examples leave to other tests: `make` is the set-up that CI
 # itself runs; ROS commands run against a real master in tests/test_ros.py.
-ELSEWHERE = ("make ", "baxterface node", "baxterface send", "baxterface stream", "rostopic ", "roslaunch ")
+ELSEWHERE = (
+    "make ",
+    "baxterface node",
+    "baxterface send",
+    "baxterface stream",
+    "baxterface state --ros",
+    "rostopic ",
+    "roslaunch ",
+)
 
 
 def console_examples(paths=DOCS):
@@ -121,7 +129,7 @@ def test_console_examples_print_what_the_docs_show(doc, command, expected, doc_f
         break_a_theme(doc_folder / "broken")
     if command.startswith(("baxterface studio", "baxterface screen")):
         return studio_example(command, expected, doc_folder)
-    if command.startswith("curl ") and re.search(r":808[01]/", command):
+    if command.startswith(("curl ", "baxterface state --url")) and re.search(r":808[01]/", command):
         return curl_example(command, expected, doc_folder)
     if command.startswith("baxterface play"):
         child = pexpect.spawn("bash", ["-c", command], cwd=str(doc_folder), env=doc_env(), timeout=60)
@@ -209,8 +217,13 @@ def test_the_console_examples_are_found():
 # -- Python examples: each runs, and prints what the docs show ----------------
 
 # Blocks that need rospy run against a real master in tests/test_docs_ros.py, those that open a
-# Link (ROS 1 or 2) in tests/test_docs_ros2.py.
-PYTHON = [e for e in python_examples() if "import rospy" not in e.code and "open_link(" not in e.code]
+# Link (ROS 1 or 2) or import rclpy in tests/test_docs_ros2.py.
+# Those that import rclpy itself talk to a face node of test_docs_ros2.py's.
+PYTHON = [
+    e
+    for e in python_examples()
+    if "import rospy" not in e.code and "open_link(" not in e.code and "import rclpy" not in e.code
+]
 
 
 @pytest.mark.parametrize("example", PYTHON, ids=[f"{e.doc}: python {e.number}" for e in PYTHON])

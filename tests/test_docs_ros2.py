@@ -28,12 +28,14 @@ pytestmark = [pytest.mark.ros2, pytest.mark.xdist_group("docs_ros2")]
 
 COMMANDS = [e for e in console_examples() if "--ros 2" in e[1]]
 LINKS = [e for e in python_examples() if "open_link(" in e.code]
+RCLPY = [e for e in python_examples() if "import rclpy" in e.code]
 
 
 def test_the_ros2_examples_are_found():
     assert any(c.startswith("baxterface node --ros 2") for _, c, _ in COMMANDS)
     assert any(c.startswith("baxterface send --ros 2") for _, c, _ in COMMANDS)
     assert any(e.doc == "ros.md" for e in LINKS)
+    assert any(e.doc == "ros.md" and e.expected for e in RCLPY)
 
 
 @pytest.fixture(scope="module")
@@ -111,3 +113,27 @@ def test_link_examples_hear_what_the_docs_say(docs_world, example, tmp_path):
         listener.send_signal(signal.SIGINT)
         listener.communicate(timeout=30)
     assert listener.returncode == 0
+
+
+@pytest.mark.parametrize("example", RCLPY, ids=[f"{e.doc}: python {e.number}" for e in RCLPY])
+def test_rclpy_examples_talk_to_a_face_node_as_the_docs_show(docs_world, example, tmp_path):
+    env, link = docs_world
+    program = tmp_path / "example.py"
+    program.write_text(example.code, encoding="utf-8")
+    state = state_of(link)
+    node = running_node(env, "--ros-args", "-p", "idle:=false")
+    try:
+        state.wait_for(timeout=60)
+        run = subprocess.run(
+            [sys.executable, str(program)],
+            cwd=str(tmp_path),
+            env=env,
+            capture_output=True,
+            text=True,
+            timeout=120,
+        )
+    finally:
+        assert stopped(node) == 0
+        state.close()
+    assert run.returncode == 0, run.stderr
+    assert matches(example.expected, run.stdout.rstrip("\n").splitlines()), run.stdout

@@ -1,8 +1,9 @@
 """The `baxterface` command line: a thin adapter over the library.
 
 app.py holds what every command shares and the entry point; each command lives
-with its kin (script_commands, play_command, ros_commands, studio_command,
-screen_command, asset_commands) and is registered here, in the order `--help` lists them.
+with its kin (script_commands, play_command, ros_commands, state_command,
+studio_command, screen_command, asset_commands) and is registered here, in the
+order `--help` lists them.
 """
 
 import os
@@ -19,11 +20,12 @@ from .play_command import play
 from .ros_commands import buttons, node, send, stream
 from .screen_command import screen
 from .script_commands import check, explain, render
+from .state_command import state
 from .studio_command import studio
 
 for command in (render, explain, play):
     app.command()(command)
-for command in (node, buttons, send, stream):
+for command in (node, buttons, send, stream, state):
     app.command(context_settings=ROS_ARGS)(command)
 for command in (check, studio, screen, voices):
     app.command()(command)

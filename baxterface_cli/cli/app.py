@@ -25,6 +25,9 @@ app = typer.Typer(
     "See docs/language.md.",
     no_args_is_help=True,
     pretty_exceptions_enable=False,
+    # Plain help and errors: an error is one line that names its option, and help shows each
+    # argument by its name, not its Python type (<str>) in a box drawn around it.
+    rich_markup_mode=None,
     context_settings={"help_option_names": ["-h", "--help"]},
 )
 
@@ -121,14 +124,17 @@ INLINE_OPT = typer.Option(
 )
 SEED_HELP = "Seed for emotions' random mouths and brows, and idle blinks."
 SIZE_OPT = typer.Option(
-    None, "--size", metavar="WxH", help="Screen size (default 1024x600; 1920x1200 for upgraded heads)."
+    None,
+    "--size",
+    metavar="WIDTHxHEIGHT",
+    help="Screen size in pixels. Default: 1024x600; upgraded heads have 1920x1200.",
 )
 THEME_OPT = typer.Option(
     None, "--theme", metavar="DIR", help="A theme folder (see 'baxterface theme export')."
 )
 FPS_HELP = "Frames per second."
 # Real-time commands: a new seed each run, idle life on.
-RANDOM_SEED_OPT = typer.Option(None, "--seed", help=SEED_HELP + " Default: random.")
+RANDOM_SEED_OPT = typer.Option(None, "--seed", metavar="N", help=SEED_HELP + " Default: random.")
 IDLE_ON_OPT = typer.Option(True, "--idle/--no-idle", help="Idle blinks and eye darts.")
 CROSSFADE_OPT = typer.Option(
     None,
@@ -210,11 +216,40 @@ def _size(text: Optional[str]) -> Optional[tuple]:
         return None
     try:
         return parse_size(text)
-    except ValueError as e:
-        raise typer.BadParameter(str(e)) from None
+    except ValueError as e:  # "size 10x10 is too small": the option names it
+        raise typer.BadParameter(str(e).replace("size ", "", 1), param_hint="'--size'") from None
 
 
 ROS_ARGS = {"allow_extra_args": True, "ignore_unknown_options": True}
+
+# What an option's value is, by its name, for the options declared without a metavar: help would
+# otherwise show click's name of its type (<float range>, <int>, TEXT).
+METAVARS = {
+    "--fps": "FPS",
+    "--seed": "N",
+    "--port": "PORT",
+    "--host": "ADDRESS",
+    "--topic": "TOPIC",
+    "--timeout": "SECONDS",
+    "--robot": "NAME",
+    "--audio": "MODE",
+    "--url": "URL",
+    "--token": "TOKEN",
+    "--at": "SECONDS",
+    "--size": "WIDTHxHEIGHT",
+}
+
+
+def named_metavars(command) -> None:
+    """Give every option of `command` and its subcommands without a metavar its METAVARS one."""
+    for sub in getattr(command, "commands", {}).values():
+        named_metavars(sub)
+    for param in command.params:
+        if getattr(param, "is_flag", False) or getattr(param, "count", False):
+            continue
+        names = [o for o in param.opts if o in METAVARS]
+        if names and (param.metavar is None or param.metavar in ("T", "WxH")):
+            param.metavar = METAVARS[names[0]]
 
 
 def _terminate(signum: int, frame: object) -> None:
@@ -226,7 +261,9 @@ def main(argv: Optional[List[str]] = None) -> None:
     """Entry point: run the app, never showing a user a Python traceback."""
     signal.signal(signal.SIGTERM, _terminate)
     try:
-        app(args=argv, prog_name="baxterface")
+        command = typer.main.get_command(app)
+        named_metavars(command)
+        command(args=argv, prog_name="baxterface")
     except Exception as e:  # a bug of ours: say so in one line
         if os.environ.get("BAXTERFACE_DEBUG"):
             raise

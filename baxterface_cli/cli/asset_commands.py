@@ -33,7 +33,7 @@ def voices(
 def theme_export(
     folder: str = typer.Argument(..., metavar="DIR", help="Folder to write the layers and theme.json to."),
     size: Optional[str] = typer.Option(
-        None, "--size", metavar="WxH", help="Screen size to draw the layers at (default 1024x600)."
+        None, "--size", metavar="WIDTHxHEIGHT", help="Screen size to draw the layers at (default 1024x600)."
     ),
     theme: Optional[str] = typer.Option(
         None, "--theme", metavar="DIR", help="Export this theme instead of the default."

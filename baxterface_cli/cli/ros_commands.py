@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import sys
 from typing import List, Optional
 
@@ -28,13 +29,17 @@ ROS_OPT = typer.Option(
     None,
     "--ros",
     metavar="1|2",
-    help="The ROS version: 1 (rospy) or 2 (rclpy); by default the ROS_VERSION of a sourced ROS, else 1.",
+    help="The ROS version: 1 (rospy) or 2 (rclpy). Default: the ROS_VERSION of a sourced ROS, else the "
+    "one this Python can import (1 if both or neither).",
 )
 
 
 def _version(command: str, given: Optional[int]) -> int:
+    from ..ros.connect import importable_ros
     from ..ros.link import RosVersionError, ros_version
 
+    if given is None and not os.environ.get("ROS_VERSION", "").strip() and importable_ros() == [2]:
+        return 2  # a virtual environment with the ros2 extra and no ROS 1
     try:
         return ros_version(given)
     except RosVersionError as e:
@@ -75,18 +80,29 @@ def _split_ros_args(words: List[str], version: int = 1, command: str = "send") -
 def node(ctx: typer.Context, ros: Optional[int] = ROS_OPT) -> None:
     """Run the face node on ROS 1 or ROS 2: the replacement for the old screen_listener.py.
 
-    Takes ROS remappings and the node's parameters as arguments, on ROS 1 as
-    display_chatter:=/other _fps:=30, on ROS 2 as --ros-args -r
-    display_chatter:=/other -p fps:=30. Parameters: fps, size (1920x1200),
-    theme (DIR), idle, selftest, display_topic (/robot/head_display), audio
-    (soundplay|local|none), camera (an image topic), camera_hfov (degrees; by
-    default the camera's camera_info says), face_policy
-    (nearest|central|longest), recordings (FOLDER: where 'say file' may read;
-    without it, none is read). Commands (old or new) arrive on display_chatter
-    and take over at once; scripts sent to ~queue wait for what is playing.
-    Frames go to /robot/xdisplay (bgr8), speech to sound_play on /robotsound
-    (ROS 1) or this machine's sound device (ROS 2), what the face is doing to
-    ~state (JSON).
+    Takes ROS remappings and the node's parameters as arguments. For example
+    (these are not the defaults): on ROS 1, display_chatter:=/other _fps:=20;
+    on ROS 2, --ros-args -r display_chatter:=/other -p fps:=20.
+
+    \b
+    Parameters (on ROS 1 with a leading _), and their defaults:
+      fps            the most frames a second: 30
+      size           WIDTHxHEIGHT of the screen: 1024x600 (upgraded heads: 1920x1200)
+      theme          a theme folder (DIR): the built-in theme
+      idle           true|false, idle blinks and eye darts: true
+      selftest       true|false, flash every layer at start: false
+      display_topic  where frames go: /robot/xdisplay (Sawyer: /robot/head_display)
+      audio          soundplay|local|none: soundplay on ROS 1, local on ROS 2
+      camera         the image topic 'follow face' uses: /cameras/head_camera/image
+      camera_hfov    its field of view in DEGREES: its camera_info's, else 76
+      face_policy    nearest|central|longest: nearest
+      recordings     the FOLDER 'say file' may read: none (no recording is read)
+
+    Commands (old or new) arrive on display_chatter and take over at once;
+    scripts sent to ~queue wait for what is playing. Frames go to
+    /robot/xdisplay (bgr8), speech to sound_play on /robotsound (ROS 1) or
+    this machine's sound device (ROS 2), what the face is doing to ~state
+    (JSON; 'baxterface state' reads it). See docs/ros.md.
     """
     version = _version("node", ros)
     words, ros_args = _split_ros_args(list(ctx.args), version, "node")
@@ -116,7 +132,8 @@ def buttons(
     By default: torso OK toggles enable/disable; the left arm's button above
     the wheel wakes the face, below puts it to sleep; the right arm's buttons
     toggle dynamic left/right arm following; the left wheel scrolls through the
-    emotions while awake. The mapping is a small JSON file (see docs/ros.md).
+    emotions while awake. The mapping is a small JSON file: see "The navigator
+    buttons" in docs/following.md.
     """
     from ..robot.navigator_buttons import ButtonMap, MappingError
 
@@ -141,11 +158,15 @@ def send(
     stdin: bool = typer.Option(
         False, "--stdin", help="Send each line of standard input as it comes, over one connection."
     ),
-    topic: str = typer.Option("display_chatter", "--topic", help="The face node's command topic."),
+    topic: str = typer.Option(
+        "display_chatter", "--topic", metavar="TOPIC", help="The face node's command topic."
+    ),
     queue: bool = typer.Option(
         False, "--queue", help="Play after what is playing (the node's ~queue topic)."
     ),
-    timeout: float = typer.Option(5.0, "--timeout", min=0.1, help="Seconds to wait for the face node."),
+    timeout: float = typer.Option(
+        5.0, "--timeout", metavar="SECONDS", min=0.1, help="How long to wait for the face node."
+    ),
     ros: Optional[int] = ROS_OPT,
 ) -> None:
     """Send a command or script to a running face node, checked first.
@@ -154,6 +175,7 @@ def send(
     no face node listening within --timeout, it says so (exit 1). With
     --stdin, each line is a command of its own: bad lines are reported with
     their line number and skipped, and the exit status is 1 if there were any.
+    What was sent is printed on standard output, problems on standard error.
     """
     version = _version("send", ros)
     text_words, ros_args = _split_ros_args(list(words or []) + list(ctx.args), version)
@@ -184,7 +206,7 @@ def send(
                 if bad:
                     raise fail(f"baxterface send: {bad} line{'s' if bad > 1 else ''} not sent")
                 return
-            typer.echo(f"sent {what} to {out.topic} ({listeners(out.send(text))})", err=True)
+            typer.echo(f"sent {what} to {out.topic} ({listeners(out.send(text))})")
     except (NoSubscriber, RosUnavailable) as e:
         raise fail(f"baxterface send: {e}") from None
 
@@ -204,7 +226,7 @@ def _send_lines(out, lines) -> int:
             typer.echo(e.render(), err=True)
             bad += 1
             continue
-        typer.echo(f"sent {command!r} to {out.topic} ({listeners(out.send(command))})", err=True)
+        typer.echo(f"sent {command!r} to {out.topic} ({listeners(out.send(command))})")
     return bad
 
 

@@ -1,7 +1,8 @@
 """OpenCV's face cascades, and the three searches the face follower makes with them.
 
-The cascades are the Haar ones OpenCV's wheels ship in `cv2.data` (nothing is
-downloaded). All sizes are in the image's pixels; a face's size is its width.
+The cascades are the Haar ones OpenCV's wheels ship in `cv2.data`, or Debian's
+`opencv-data` package in /usr/share/opencv4/haarcascades (nothing is downloaded;
+see `cascade_path`). All sizes are in the image's pixels; a face's size is its width.
 
 - **Sweep** (`sweep`): the whole image, one `Job` at a time. A job is a few
   face sizes, each searched on the image shrunk so that size becomes the
@@ -25,6 +26,7 @@ downloaded). All sizes are in the image's pixels; a face's size is its width.
 from __future__ import annotations
 
 import math
+import os
 from typing import Any, List, NamedTuple, Optional, Sequence, Tuple
 
 from ..extras import MissingTool
@@ -161,6 +163,36 @@ def _jobs(width: int, height: int, sizes: Sequence[float], turn: float) -> List[
     return jobs
 
 
+# Where Debian's opencv-data puts the cascades, for its python3-opencv, which has no `cv2.data`.
+SYSTEM_CASCADES = ("/usr/share/opencv4/haarcascades", "/usr/share/opencv/haarcascades")
+SYSTEM_PYTHON = "/usr/lib/python3"  # where a distribution's python3-opencv is installed
+
+
+def cascade_folders(cv2: Any) -> List[str]:
+    """Where the cascades may be, absolute paths only, in order: the wheel's `cv2.data`, then
+    Debian's. A bare name would be looked up in the working directory, where anyone may put one."""
+    wheel = getattr(getattr(cv2, "data", None), "haarcascades", "")
+    folders = [wheel] if isinstance(wheel, str) and os.path.isabs(wheel) else []
+    return folders + list(SYSTEM_CASCADES)
+
+
+def cascade_path(cv2: Any, name: str) -> str:
+    """The absolute path of cascade `name`, or MissingTool saying what to install here."""
+    for folder in cascade_folders(cv2):
+        path = os.path.join(folder, name)
+        if os.path.isfile(path):
+            return path
+    where = ", ".join(cascade_folders(cv2))
+    raise MissingTool(f"following a face needs OpenCV's {name} (looked in {where}): {install_hint(cv2)}")
+
+
+def install_hint(cv2: Any) -> str:
+    """What installs the cascades for the OpenCV this Python imported."""
+    if str(getattr(cv2, "__file__", "")).startswith(SYSTEM_PYTHON):
+        return "this is the system's OpenCV, whose cascades are in 'apt install opencv-data'"
+    return "opencv-python-headless 4.x ships them: pip install 'baxterface[camera]'"
+
+
 class Cascades:
     """The face cascades, and the sweep, near and check searches made with them (see the module)."""
 
@@ -178,12 +210,11 @@ class Cascades:
         self.agree = self._cascade(self.AGREE)
 
     def _cascade(self, name: str) -> Any:
-        folder = getattr(getattr(self.cv2, "data", None), "haarcascades", "")
-        cascade = self.cv2.CascadeClassifier(folder + name)
+        path = cascade_path(self.cv2, name)
+        cascade = self.cv2.CascadeClassifier(path)
         if cascade.empty():
             raise MissingTool(
-                f"following a face needs OpenCV's {name} (opencv-python-headless 4.x ships it): "
-                "pip install 'baxterface[camera]'"
+                f"following a face cannot read OpenCV's cascade {path}: {install_hint(self.cv2)}"
             )
         return cascade
 

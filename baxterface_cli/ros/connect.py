@@ -25,6 +25,20 @@ ROS_PYTHON_PATHS = ("/usr/lib/python3/dist-packages", "/opt/ros/noetic/lib/pytho
 ROS2_FIRST_PYTHON = (3, 10)  # the first Python the rclpy wheels of the ros2 extra are built for
 
 
+def importable_ros() -> List[int]:
+    """The ROS versions whose client library (rospy, rclpy) this Python can import, not importing it."""
+    from importlib.util import find_spec
+
+    found = []
+    for version, module in ((1, "rospy"), (2, "rclpy")):
+        try:
+            if find_spec(module) is not None:
+                found.append(version)
+        except (ImportError, ValueError):
+            pass
+    return found
+
+
 def require_ros(version: int = 1) -> None:
     """ROS `version`'s client library (rospy, or rclpy with its message packages) importable."""
     if version == 2:

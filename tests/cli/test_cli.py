@@ -123,7 +123,10 @@ def test_no_arguments_shows_help_not_a_traceback():
     assert "Traceback" not in run.err
 
 
-@pytest.mark.parametrize("command", [["node"], ["send", "happy"], ["stream", "-e", "happy"]])
+@pytest.mark.parametrize(
+    "command",
+    [["node", "--ros", "1"], ["send", "--ros", "1", "happy"], ["stream", "--ros", "1", "-e", "happy"]],
+)
 def test_without_ros_the_ros_commands_say_how_to_get_it(command):
     try:
         import rospy  # noqa: F401
@@ -137,3 +140,63 @@ def test_without_ros_the_ros_commands_say_how_to_get_it(command):
         assert "'make ros' makes .venv-ros" in run.err and ".venv-ros/bin/baxterface" in run.err
     else:
         assert "ROS 1 is not installed" in run.err and "apt-get install" in run.err
+
+
+COMMANDS = [
+    ["render"], ["explain"], ["play"], ["check"], ["node"], ["buttons"], ["send"], ["stream"], ["state"],
+    ["studio"], ["screen"], ["voices"], ["theme", "export"], ["theme", "check"],
+]  # fmt: skip
+
+
+@pytest.mark.parametrize("command", COMMANDS, ids=" ".join)
+def test_help_names_what_each_option_takes_not_its_python_type(command):
+    run = baxterface(*command, "--help")
+    assert run.code == 0 and run.out.startswith(f"Usage: baxterface {' '.join(command)} ")
+    for word in ("<str>", "<int>", "<float", "<integer", "INTEGER", "FLOAT", "╭"):
+        assert word not in run.out, word
+
+
+def test_node_help_labels_its_examples_as_examples_and_gives_each_default():
+    run = baxterface("node", "--help")
+    assert "For example (these are not the defaults)" in " ".join(run.out.split())
+    rows = {line.split()[0]: line.strip() for line in run.out.splitlines() if line.startswith("    ")}
+    assert rows["size"].endswith("1024x600 (upgraded heads: 1920x1200)")
+    assert rows["display_topic"].split(": ")[1].startswith("/robot/xdisplay")
+    for name in (
+        "fps",
+        "theme",
+        "idle",
+        "selftest",
+        "audio",
+        "camera",
+        "camera_hfov",
+        "face_policy",
+        "recordings",
+    ):
+        assert name in rows, name
+
+
+@pytest.mark.parametrize(
+    "command",
+    [
+        ["render", "-e", "happy", "-o", "x.png"],
+        ["stream", "-e", "happy"],
+        ["screen"],
+        ["theme", "export", "t"],
+    ],
+)
+def test_a_bad_size_is_one_line_naming_the_option(command, tmp_path):
+    run = baxterface(*command, "--size", "10x10", cwd=tmp_path)
+    assert run.code == 2
+    assert run.err.splitlines()[-1] == (
+        "Error: Invalid value for '--size': 10x10 is too small: at least 16 pixels a side"
+    )
+
+
+def test_buttons_help_points_to_the_page_that_describes_the_mapping():
+    from conftest import ROOT
+
+    said = " ".join(baxterface("buttons", "--help").out.split())
+    assert 'see "The navigator buttons" in docs/following.md' in said
+    following = (ROOT / "docs" / "following.md").read_text(encoding="utf-8")
+    assert "## The navigator buttons" in following and "buttons.json" in following

@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import math
+import os
+import shutil
 
 import numpy as np
 import pytest
@@ -82,3 +84,88 @@ def test_near_finds_the_tracked_face_turned_and_the_check_turns_down_the_backgro
     assert cascades.verdict(grey, box, strict=False) == fc.FOUND
     assert cascades.near(grey, 500, 300, 30, 0.0) is None  # nothing there
     assert cascades.verdict(grey, fc.Box(500, 300, 30)) == fc.NOT_A_FACE
+
+
+# -- where the cascades come from: absolute paths only, never the working directory ---------------
+
+
+class DebianCv2:
+    """OpenCV as Debian's python3-opencv is: no `cv2.data`; records every cascade it is asked to open."""
+
+    __file__ = "/usr/lib/python3/dist-packages/cv2.cpython-311-x86_64-linux-gnu.so"
+
+    def __init__(self, cv2):
+        self.real, self.opened = cv2, []
+
+    def CascadeClassifier(self, path):  # noqa: N802 (OpenCV's name)
+        self.opened.append(path)
+        return self.real.CascadeClassifier(path)
+
+    def __getattr__(self, name):  # the rest is the real OpenCV's
+        if name == "data":
+            raise AttributeError(name)
+        return getattr(self.real, name)
+
+
+@pytest.fixture
+def planted(tmp_path, monkeypatch):
+    """A working directory holding a real cascade under each name the follower loads: a planted
+    file that works would be the worst case, for nothing would show it was used."""
+    cv2 = needs("cv2")
+    here = tmp_path / "here"
+    here.mkdir()
+    for name in (fc.Cascades.FIND, fc.Cascades.CHECK, fc.Cascades.AGREE):
+        shutil.copy(cv2.data.haarcascades + fc.Cascades.CHECK, str(here / name))
+    monkeypatch.chdir(here)
+    return cv2
+
+
+def test_without_cv2_data_or_debians_cascades_a_planted_cascade_is_not_used_and_apt_is_named(
+    planted, tmp_path, monkeypatch
+):
+    monkeypatch.setattr(fc, "SYSTEM_CASCADES", (str(tmp_path / "no-opencv-data"),))
+    debian = DebianCv2(planted)
+    with pytest.raises(fc.MissingTool) as refused:
+        fc.Cascades(debian)
+    assert debian.opened == []  # nothing was opened, least of all ./haarcascade_*.xml
+    message = str(refused.value)
+    assert "apt install opencv-data" in message and "pip install" not in message
+    assert fc.Cascades.FIND in message and str(tmp_path / "no-opencv-data") in message
+
+
+def test_with_debians_opencv_data_the_cascades_are_read_from_it_by_absolute_path(
+    planted, tmp_path, monkeypatch
+):
+    system = tmp_path / "usr-share-opencv4-haarcascades"
+    system.mkdir()
+    for name in (fc.Cascades.FIND, fc.Cascades.CHECK, fc.Cascades.AGREE):
+        shutil.copy(planted.data.haarcascades + name, str(system / name))
+    monkeypatch.setattr(fc, "SYSTEM_CASCADES", ("/nonexistent/opencv4", str(system)))
+    debian = DebianCv2(planted)
+    cascades = fc.Cascades(debian)
+    assert debian.opened == [
+        str(system / n) for n in (fc.Cascades.FIND, fc.Cascades.CHECK, fc.Cascades.AGREE)
+    ]
+    assert found(cascades, picture(24, 0), fc.plan(640, 400)[1][0], 24)  # the real find cascade
+
+
+def test_the_wheels_cascades_are_read_by_absolute_path_from_any_working_directory(planted):
+    class Wheel(DebianCv2):
+        __file__ = planted.__file__
+        data = planted.data
+
+    wheel = Wheel(planted)
+    cascades = fc.Cascades(wheel)
+    assert os.path.isabs(planted.data.haarcascades)
+    assert wheel.opened == [
+        planted.data.haarcascades + n for n in (fc.Cascades.FIND, fc.Cascades.CHECK, fc.Cascades.AGREE)
+    ]
+    assert found(cascades, picture(24, 0), fc.plan(640, 400)[1][0], 24)
+
+
+def test_a_pip_opencv_without_its_cascades_names_the_camera_extra(tmp_path, monkeypatch):
+    monkeypatch.setattr(fc, "SYSTEM_CASCADES", ())
+    monkeypatch.chdir(tmp_path)
+    wheel = type("Cv2", (), {"__file__": str(tmp_path / "site-packages/cv2/__init__.py")})()
+    with pytest.raises(fc.MissingTool, match=r"pip install 'baxterface\[camera\]'"):
+        fc.Cascades(wheel)

@@ -407,10 +407,20 @@ def test_send_checks_first_and_needs_a_listener(ros, node):
     assert bad.code == 1 and "did you mean 'happy'" in bad.err
     good = baxterface("send", "look", "30", "10", "in", "0.2s", env=ros)
     assert good.code == 0, good.err
-    assert good.err.strip() == "sent 'look 30 10 in 0.2s' to /display_chatter (1 listener)"
+    assert good.out.strip() == "sent 'look 30 10 in 0.2s' to /display_chatter (1 listener)"  # the result
+    assert good.err == ""
     assert report(state, test=lambda r: r["eye_x"] == 30.0)["eye_y"] == 10.0
     nobody = baxterface("send", "--topic", "/nobody_listens", "--timeout", "1", "happy", env=ros)
     assert nobody.code == 1 and "nothing listens on /nobody_listens" in nobody.err
+
+
+def test_state_reads_the_nodes_state_on_ros_1(ros, node):
+    proc, state = node
+    assert baxterface("send", "sad; look 30 -10", env=ros).code == 0
+    report(state, test=lambda r: r["emotion"] == "sad" and r["eye_x"] == 30.0)
+    run = baxterface("state", env=ros)
+    assert run.code == 0 and run.err == "", run.err
+    assert run.out.startswith("sad (skin 1, ") and "; eyes 30 -10, lids " in run.out
 
 
 def test_send_stdin_sends_each_good_line_over_one_connection_and_reports_the_bad(ros, node):
@@ -418,8 +428,9 @@ def test_send_stdin_sends_each_good_line_over_one_connection_and_reports_the_bad
     lines = "skin 1\n\nhapy\n# a comment\nlook 12 0\nwobble 0.3 in\nskin 4\n"
     run = baxterface("send", "--stdin", stdin=lines, env=ros)
     assert run.code == 1
-    sent = [line for line in run.err.splitlines() if line.startswith("sent ")]
+    sent = run.out.splitlines()  # what was sent on standard output, the problems on standard error
     assert sent == [f"sent {c!r} to /display_chatter (1 listener)" for c in ("skin 1", "look 12 0", "skin 4")]
+    assert not any(line.startswith("sent ") for line in run.err.splitlines())
     assert "<stdin>:3:1: error: unknown command 'hapy'" in run.err
     assert "<stdin>:6:14: error: unexpected end of script" in run.err
     assert run.err.strip().splitlines()[-1] == "baxterface send: 2 lines not sent"
@@ -432,7 +443,7 @@ def test_send_stdin_sends_a_hundred_lines_in_order(ros, node):
     lines = "".join(f"look {i % 30} 0\n" for i in range(99)) + "look 33 -7\n"
     run = baxterface("send", "--stdin", stdin=lines, env=ros)
     assert run.code == 0, run.err
-    assert len(run.err.splitlines()) == 100
+    assert len(run.out.splitlines()) == 100
     assert report(state, test=lambda r: r["eye_x"] == 33.0)["eye_y"] == -7.0
 
 
@@ -459,7 +470,7 @@ def test_queued_scripts_play_after_the_current_one(ros, node):
 def test_send_queue_reaches_the_queue_topic(ros, node):
     proc, state = node
     sent = baxterface("send", "--queue", "skin 4", env=ros)
-    assert sent.code == 0 and sent.err.strip() == "sent 'skin 4' to /baxter_face/queue (1 listener)"
+    assert sent.code == 0 and sent.out.strip() == "sent 'skin 4' to /baxter_face/queue (1 listener)"
     report(state, test=lambda r: r["skin"] == 4)
 
 
@@ -587,8 +598,18 @@ def test_roslaunch_starts_the_face_node(ros, tmp_path):
     screen = Topic("/robot/xdisplay", Image)
     state = Topic("/baxter_face/state", String)
     env = dict(ros, ROS_PACKAGE_PATH=str(ROOT / "ros"), PATH=f"{Path(sys.executable).parent}:{ros['PATH']}")
+    recordings = tmp_path / "recordings"
+    recordings.mkdir()
+    shutil.copy(ROOT / "scripts_examples" / "greeting.ogg", recordings / "greeting.ogg")
     launch = subprocess.Popen(
-        ["roslaunch", "baxter_face", "baxter_face.launch", "idle:=false"],
+        [
+            "roslaunch",
+            "baxter_face",
+            "baxter_face.launch",
+            "idle:=false",
+            "audio:=none",
+            f"recordings:={recordings}",
+        ],
         env=env,
         stdout=subprocess.PIPE,
         stderr=subprocess.STDOUT,
@@ -602,6 +623,8 @@ def test_roslaunch_starts_the_face_node(ros, tmp_path):
         report(
             state, test=lambda r: (r["emotion"], r["skin"], r["mouth"] in HAPPY_MOUTHS) == ("happy", 2, True)
         )
+        chatter('say file "greeting.ogg"')  # read from recordings:=FOLDER
+        report(state, test=lambda r: r["saying"] == "greeting.ogg")
     finally:
         launch.send_signal(signal.SIGINT)
         launch.wait(timeout=30)

@@ -98,10 +98,18 @@ def launched_command(given, folder):
     return [executable, *node.arguments, *ros_args], values
 
 
+def test_without_recordings_the_launched_node_reads_none(tmp_path):
+    _, values = launched_command({}, tmp_path)
+    assert values["recordings"] == "" and values["camera_hfov"] == "" and values["face_policy"] == "nearest"
+
+
 def test_the_launch_file_starts_the_node_with_its_arguments_as_parameters(ros2, tmp_path):
-    command, values = launched_command(
-        {"fps": "20", "size": "512x300", "selftest": "false", "idle": "false", "camera_hfov": "60"}, tmp_path
-    )
+    recordings = tmp_path / "recordings"
+    recordings.mkdir()
+    shutil.copy(ROOT / "scripts_examples" / "greeting.ogg", recordings / "greeting.ogg")
+    given = {"fps": "20", "size": "512x300", "selftest": "false", "idle": "false", "camera_hfov": "60"}
+    given.update(audio="none", recordings=str(recordings))
+    command, values = launched_command(given, tmp_path)
     assert values["fps"] == 20 and values["idle"] is False and values["theme"] == ""
     link = open_link(2, "pytest_launch", anonymous=True)
     state = Heard(
@@ -121,6 +129,8 @@ def test_the_launch_file_starts_the_node_with_its_arguments_as_parameters(ros2, 
             assert node.poll() is None
         chatter.publish(data="happy")
         state.wait_for(lambda r: r["emotion"] == "happy")
+        chatter.publish(data='say file "greeting.ogg"')  # read from recordings:=FOLDER, and only there
+        state.wait_for(lambda r: r["saying"] == "greeting.ogg")
     finally:
         node.send_signal(signal.SIGINT)
         out = node.communicate(timeout=30)[0].decode()

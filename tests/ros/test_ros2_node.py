@@ -127,7 +127,7 @@ def test_send_happy_changes_the_screen_to_a_warm_bgr8_face_and_the_state_says_so
     seen = screen.count()
     sent = baxterface("send", "--ros", "2", "happy", env=ros2)
     assert sent.code == 0, sent.err
-    assert sent.err.strip() == "sent 'happy' to /display_chatter (1 listener)"
+    assert sent.out.strip() == "sent 'happy' to /display_chatter (1 listener)"
     screen.wait_for(lambda f: f["rgb"][0] > f["rgb"][2] + 60, after=seen)  # warm: happy's skin
     shown = state.wait_for(lambda r: r["emotion"] == "happy" and r["mouth"] in ("teeth", "smile-open"))
     assert shown["skin"] == 2
@@ -185,7 +185,7 @@ def test_queued_scripts_play_after_the_current_one(face, ros2):
     assert first["skin"] != 0 and first["eye_x"] < 40
     assert state.wait_for(lambda r: r["skin"] == 0 and r["queued"] == 0, after=seen)["eye_x"] == 40.0
     sent = baxterface("send", "--ros", "2", "--queue", "skin 4", env=ros2)
-    assert sent.err.strip() == "sent 'skin 4' to /baxter_face/queue (1 listener)"
+    assert sent.out.strip() == "sent 'skin 4' to /baxter_face/queue (1 listener)"
     state.wait_for(lambda r: r["skin"] == 4, after=seen)
     now.close()
     later.close()
@@ -197,9 +197,45 @@ def test_send_stdin_sends_each_good_line_in_order_over_one_connection(face, ros2
     lines = "skin 1\nhapy\n" + "".join(f"look {i} 0\n" for i in range(30)) + "look 33 -7\n"
     run = baxterface("send", "--ros", "2", "--stdin", stdin=lines, env=ros2)
     assert run.code == 1 and "<stdin>:2:1: error: unknown command 'hapy'" in run.err
-    sent = [line for line in run.err.splitlines() if line.startswith("sent ")]
+    sent = run.out.splitlines()
     assert len(sent) == 32 and sent[-1] == "sent 'look 33 -7' to /display_chatter (1 listener)"
     assert state.wait_for(lambda r: r["eye_x"] == 33.0, after=seen)["eye_y"] == -7.0
+
+
+def test_baxterface_state_reads_the_nodes_state_as_a_line_and_as_json(face, ros2):
+    link, node, state = face
+    commands = chatter(link)
+    seen = state.count()
+    commands.publish(data="sad; look 30 -10")
+    state.wait_for(lambda r: r["emotion"] == "sad" and r["eye_x"] == 30.0, after=seen)
+    commands.close()
+    line = baxterface("state", "--ros", "2", env=ros2)
+    assert line.code == 0 and line.err == "", line.err
+    assert line.out.startswith("sad (skin 1, ") and "; eyes 30 -10, lids " in line.out
+    as_json = json.loads(baxterface("state", "--ros", "2", "--json", env=ros2).out)
+    assert as_json["emotion"] == "sad" and as_json["eye_x"] == 30.0
+
+
+def test_without_ros_version_send_takes_the_ros_this_python_can_import(face, ros2):
+    from baxterface_cli.ros.connect import importable_ros
+
+    if importable_ros() != [2]:
+        pytest.skip("this Python does not have rclpy alone (the ros2 extra without ROS 1)")
+    env = {k: v for k, v in ros2.items() if k != "ROS_VERSION"}
+    run = baxterface("send", "--topic", "/nobody_listens", "--timeout", "0.5", "happy", env=env)
+    # ROS 2 joined and found nothing on that topic; ROS 1 would have said that rospy is missing
+    assert run.code == 1 and run.out == ""
+    assert run.err.strip() == "baxterface send: nothing listens on /nobody_listens: is the face node running?"
+    run = baxterface("send", "happy", env=env)
+    assert run.code == 0 and run.out.strip() == "sent 'happy' to /display_chatter (1 listener)"
+
+
+def test_baxterface_state_without_a_node_says_so(ros2):
+    run = baxterface("state", "--ros", "2", "--topic", "/nobody/state", "--timeout", "1", env=ros2)
+    assert run.code == 1
+    assert (
+        run.err.strip() == "baxterface state: nothing on /nobody/state within 1 s: is the face node running?"
+    )
 
 
 def test_enable_and_nod_go_out_as_std_msgs_bool_and_a_head_pan_says_it_has_no_type(face):

@@ -22,7 +22,13 @@ ARGUMENTS = [
     ("display_topic", "/robot/xdisplay", "where the frames go (sensor_msgs/Image, bgr8)"),
     ("audio", "local", "where `say` is heard: local (this machine's sound device) or none"),
     ("camera", "/cameras/head_camera/image", "the sensor_msgs/Image topic `follow face` looks through"),
-    ("camera_hfov", "76", "that camera's horizontal field of view, in degrees"),
+    (
+        "camera_hfov",
+        "",
+        "that camera's horizontal field of view in degrees; empty: its camera_info's, else 76",
+    ),
+    ("face_policy", "nearest", "which face `follow face` follows among several: nearest, central or longest"),
+    ("recordings", "", "the folder `say file` reads recordings from; empty: none is read"),
 ]
 
 

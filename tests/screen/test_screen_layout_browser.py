@@ -1,0 +1,67 @@
+"""Where the screen's page puts the face and its 'Tap for sound' prompt, in real chromium windows:
+Baxter's own 1024x600 and a portrait tablet's, the prompt never over the face's features."""
+
+from __future__ import annotations
+
+import io
+
+import numpy as np
+import pytest
+
+from browser import chromium, wait_for
+from studio_server import running_screen
+
+pytestmark = [pytest.mark.xdist_group("screen_layout"), pytest.mark.one_python]
+
+BOX = "(el => { const r = el.getBoundingClientRect(); return [r.left, r.top, r.right, r.bottom]; })"
+
+
+@pytest.fixture(scope="module")
+def screen(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("layout")
+    (folder / "first.face").write_text("happy\n")
+    with running_screen(folder, str(folder / "first.face"), "--no-idle") as server:
+        yield server
+
+
+def shown(screen, width, height):
+    """The page in a window of that size: a screenshot without the prompt, the prompt's box (shown,
+    as where the browser asks for a tap first) and the face's."""
+    from PIL import Image
+
+    with chromium(width, height) as driver:
+        driver.execute_cdp_cmd(
+            "Emulation.setDeviceMetricsOverride",
+            {"width": width, "height": height, "deviceScaleFactor": 1, "mobile": False},
+        )
+        driver.get(screen.url)
+        wait_for(driver, "window.screenFace && window.screenFace.frames >= 1")
+        driver.execute_script("document.getElementById('tap').hidden = true")
+        shot = np.asarray(Image.open(io.BytesIO(driver.get_screenshot_as_png())).convert("RGB"), dtype=int)
+        driver.execute_script("document.getElementById('tap').hidden = false")
+        tap = driver.execute_script(f"return {BOX}(document.getElementById('tap'))")
+        face = driver.execute_script(f"return {BOX}(document.getElementById('face'))")
+    return shot, [round(v) for v in tap], face
+
+
+def test_at_1024x600_the_prompt_sits_on_plain_skin_in_the_top_corner(screen):
+    shot, (left, top, right, bottom), _ = shown(screen, 1024, 600)
+    assert shot.shape == (600, 1024, 3)
+    assert right > 900 and bottom < 60  # the top right corner, far from the mouth
+    under = shot[top:bottom, left:right].reshape(-1, 3)
+    # Only skin under it: no outline, eye white or mouth (the skin's gradient varies a little).
+    assert (under.max(axis=0) - under.min(axis=0)).max() < 40  # one colour, give or take its gradient
+    assert under[:, 0].min() > 200 and under[:, 2].max() < 150  # orange: not an outline, an eye or a mouth
+
+
+@pytest.mark.parametrize("width, height", [(600, 1024), (800, 1280)])
+def test_a_portrait_window_letterboxes_the_face_in_its_middle_and_the_prompt_is_above_it(
+    screen, width, height
+):
+    shot, tap, face = shown(screen, width, height)
+    # The face keeps its aspect (1024x600) across the whole width, in the middle: black above and below.
+    drawn = np.nonzero(shot.sum(axis=(1, 2)) > 0)[0]
+    assert abs(len(drawn) - width * 600 / 1024) <= 2
+    assert abs(drawn[0] - (height - len(drawn)) / 2) <= 2
+    assert face[0] == 0 and face[2] == width
+    assert tap[3] < drawn[0]  # the prompt is on the black bar above the face
