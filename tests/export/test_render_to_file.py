@@ -349,11 +349,11 @@ def test_at_is_refused_for_outputs_of_every_frame(tmp_path, target):
 @pytest.mark.parametrize(
     "size, message",
     [
-        ("8192x8192", "size 8192x8192 is too large: at most 8294400 pixels (e.g. 3840x2160)"),
-        ("3841x2160", "size 3841x2160 is too large: at most 8294400 pixels"),
-        ("8200x100", "size 8200x100 is too large: at most 8192 pixels a side"),
-        ("1" + "0" * 5000 + "x600", "size 100000000000000000000000000000... is too large"),
-        ("8x600", "size 8x600 is too small: at least 16 pixels a side"),
+        ("8192x8192", "'--size': 8192x8192 is too large: at most 8294400 pixels (e.g. 3840x2160)"),
+        ("3841x2160", "'--size': 3841x2160 is too large: at most 8294400 pixels"),
+        ("8200x100", "'--size': 8200x100 is too large: at most 8192 pixels a side"),
+        ("1" + "0" * 5000 + "x600", "'--size': 100000000000000000000000000000... is too large"),
+        ("8x600", "'--size': 8x600 is too small: at least 16 pixels a side"),
     ],
 )
 def test_sizes_that_would_exhaust_memory_are_refused(tmp_path, size, message):

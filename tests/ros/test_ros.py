@@ -211,6 +211,32 @@ def test_rostopic_pub_happy_changes_the_screen_to_a_warm_bgr8_face(ros, node):
     screen.close()
 
 
+def test_a_viewer_on_the_compressed_topic_gets_the_face_as_jpeg_and_its_changes(ros, node):
+    import io
+
+    import numpy as np
+    from PIL import Image as Picture
+    from sensor_msgs.msg import CompressedImage, Image
+
+    def pixels(msg):
+        return np.asarray(Picture.open(io.BytesIO(msg.data)).convert("RGB")).astype(int)
+
+    screen = Topic("/robot/xdisplay", Image)
+    raw = screen.wait_for()
+    jpegs = Topic("/robot/xdisplay/compressed", CompressedImage)  # the still face's, once it is heard
+    first = jpegs.wait_for()
+    assert first.format == "bgr8; jpeg compressed bgr8"
+    seen = pixels(first)
+    frame = np.frombuffer(raw.data, np.uint8).reshape(600, 1024, 3)[..., ::-1].astype(int)
+    assert seen.shape == (600, 1024, 3) and np.abs(seen - frame).mean() < 6.0  # the frame, as JPEG
+    count = len(jpegs.messages)
+    rostopic_pub(ros, "happy")
+    warm = jpegs.wait_for(lambda m: pixels(m)[300, 512, 0] > pixels(m)[300, 512, 2] + 60, after=count)
+    assert len(warm.data) < len(raw.data) / 10  # what a viewer elsewhere saves
+    jpegs.close()
+    screen.close()
+
+
 def test_a_slow_morph_sends_a_frame_as_the_mouth_changes_though_its_named_parts_do_not(ros, node):
     from sensor_msgs.msg import Image
 
@@ -1112,10 +1138,19 @@ def test_ros_console_examples_do_what_the_docs_show(ros, doc, command, expected,
                     proc.kill()
                     proc.wait()
             return
+        # Both streams in one, in the order they were written, as a terminal shows them (what was
+        # sent goes to standard output, problems to standard error).
         run = subprocess.run(
-            command, shell=True, cwd=str(tmp_path), env=env, capture_output=True, text=True, timeout=120
+            command,
+            shell=True,
+            cwd=str(tmp_path),
+            env=env,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.STDOUT,
+            text=True,
+            timeout=120,
         )
-        printed = (run.stdout + run.stderr).strip("\n").splitlines()
+        printed = run.stdout.strip("\n").splitlines()
         printed = [line for line in printed if not line.startswith("[")]  # rospy's own log lines
         if command.startswith("rostopic echo"):  # a live face: the same fields, whatever their values
             import yaml
@@ -1124,7 +1159,7 @@ def test_ros_console_examples_do_what_the_docs_show(ros, doc, command, expected,
             assert set(json.loads(yaml.safe_load(run.stdout.split("---")[0])["data"])) == set(shown)
         else:
             failed = any(": error:" in line or line.startswith("baxterface ") for line in expected)
-            assert run.returncode == (1 if failed else 0), run.stderr
+            assert run.returncode == (1 if failed else 0), run.stdout
             assert matches(expected, printed), printed
     finally:
         state.close()

@@ -98,7 +98,7 @@ def launched_command(given, folder):
     return [executable, *node.arguments, *ros_args], values
 
 
-def test_without_recordings_the_launched_node_reads_none(tmp_path):
+def test_without_recordings_the_launched_node_reads_none(ros2, tmp_path):
     _, values = launched_command({}, tmp_path)
     assert values["recordings"] == "" and values["camera_hfov"] == "" and values["face_policy"] == "nearest"
 
