@@ -28,11 +28,10 @@ from ..core.presets import (
 )
 from ..core.tables import EMOTIONS, HEAD_SPEED_RATIO, HEAD_TOP_SPEED, TIMING, USUAL_VARIANT
 from ..language import syntax_tree as n
-from ..language.durations import move_seconds, statement_seconds
+from ..language.statements import KINDS, describe, move_seconds, statement_seconds
 from . import effects as fx
 from .effects import Cue
 from .shape_tracks import ShapeTracks
-from .statement_words import describe
 from .take_over import Carry, carry_over
 from .timeline import CROSSFADE, PartsChange, Said, Span, Speaker, Timeline, Track
 from .tracks import Owner
@@ -99,7 +98,7 @@ class _Compiler:
 
     def statement(self, s: n.Statement, t: float) -> float:
         self.owner.at = t
-        end = _HANDLERS[type(s)](self, s, t)
+        end = COMPILE_STEPS[type(s)](self, s, t)
         if not isinstance(s, (n.Block, n.Call)):  # a block's statements have spans of their own
             self.spans.append(Span(t, end, s.pos.line, describe(s)))
         return end
@@ -333,7 +332,13 @@ class _Compiler:
                 self.recordings = Recordings.for_script(self.filename)
             utterance, mouth = self.recordings.recite(s)
         else:
-            utterance = self.speak(s.text, s.voice, s.rate)
+            from ..speech.espeak_process import SynthesisFailed
+            from ..speech.recordings import RecordingError
+
+            try:
+                utterance = self.speak(s.text, s.voice, s.rate)
+            except SynthesisFailed as e:  # espeak-ng crashed on this text: this `say` cannot be said
+                raise RecordingError(str(e), s) from None
             mouth = mouth_track(utterance)
         said = Said(t, utterance, mouth)
         self.later(t, lambda at: self.speech.append(said))
@@ -348,33 +353,15 @@ class _Compiler:
         return end
 
 
-# Each statement's handler, by its syntax-tree class: an explicit table, so a new statement is
-# one line here (and a test fails until it is).
-_HANDLERS: Dict[type, Callable[[_Compiler, Any, float], float]] = {
-    n.Repeat: _Compiler.do_repeat,
-    n.Together: _Compiler.do_together,
-    n.Call: _Compiler.do_call,
-    n.Define: _Compiler.do_define,
-    n.Emotion: _Compiler.do_emotion,
-    n.Feeling: _Compiler.do_feeling,
-    n.Mood: _Compiler.do_mood,
-    n.Wink: _Compiler.do_wink,
-    n.Adjust: _Compiler.do_adjust,
-    n.Look: _Compiler.do_look,
-    n.Blink: _Compiler.do_blink,
-    n.Eyelids: _Compiler.do_eyelids,
-    n.Skin: _Compiler.do_skin,
-    n.Mouth: _Compiler.do_mouth,
-    n.Brows: _Compiler.do_brows,
-    n.Wait: _Compiler.do_wait,
-    n.Wobble: _Compiler.do_wobble,
-    n.Nod: _Compiler.do_nod,
-    n.Enable: _Compiler.do_enable,
-    n.Disable: _Compiler.do_disable,
-    n.Follow: _Compiler.do_follow,
-    n.Say: _Compiler.do_say,
-    n.Exit: _Compiler.do_exit,
-}
+def _compile_steps() -> Dict[type, Callable[[_Compiler, Any, float], float]]:
+    """Each statement's compile step, by its node: `do_<name>` (language/statements.py names it)."""
+    missing = [f"do_{kind.name}" for kind in KINDS.values() if not hasattr(_Compiler, f"do_{kind.name}")]
+    if missing:
+        raise TypeError(f"statements without a compile step: write _Compiler.{', '.join(missing)}")
+    return {node: getattr(_Compiler, f"do_{kind.name}") for node, kind in KINDS.items()}
+
+
+COMPILE_STEPS = _compile_steps()
 
 
 def head_speed(start: float, target: float, duration: float) -> float:

@@ -9,12 +9,12 @@ method on each handler; a handler that lacks one cannot be instantiated.
 
 from __future__ import annotations
 
-import math
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, NamedTuple, Optional
 
 from ..core.tables import TIMING, FollowTarget
+from ..language.statements import quoted, radians_and_degrees
 
 if TYPE_CHECKING:  # speech needs numpy; the effects themselves do not
     from ..speech.synthesis import Utterance
@@ -202,13 +202,3 @@ class EffectWords(EffectHandler):
             words = f" text {quoted(u.text)}" if u.text else ""
             return f"say file {quoted(u.recording.name)}{words} ({u.duration:.2f} s, {u.recording.method})"
         return f"say {quoted(u.text)} ({u.duration:.2f} s, voice {u.voice}, {u.rate} words a minute)"
-
-
-def radians_and_degrees(angle: float, sign: str = "") -> str:
-    """An angle as the robot takes it and as people picture it: `0.349 rad (20 deg)`."""
-    return f"{angle:{sign}.2f} rad ({math.degrees(angle):{sign}.3g} deg)"
-
-
-def quoted(text: str) -> str:
-    """Text as a script writes it: in double quotes, with \\ and \" escaped."""
-    return '"' + text.replace("\\", "\\\\").replace('"', '\\"') + '"'

@@ -88,16 +88,19 @@ class LiveFace:
 
     def prepare(self, script: Script, start: FaceState, carry: Optional[Carry] = None) -> Timeline:
         """Compile `script` to start from `start`; safe from another thread."""
-        if self.recordings is None:
-            from ..speech.recordings import Recordings
+        from ..speech.recordings import RecordingError, Recordings
 
+        if self.recordings is None:
             self.recordings = Recordings(None)
         # A recording's length is in its header, which parsing does not read: the length limit with it.
         unsaid = self.recordings.check(script) if "file" in script.source.lower() else []
         if unsaid:
             raise ScriptError(unsaid, script.filename, script.source)
         seed = self.rng.randrange(2**32)
-        return compile_script(script, seed=seed, start=start, recordings=self.recordings, carry=carry)
+        try:
+            return compile_script(script, seed=seed, start=start, recordings=self.recordings, carry=carry)
+        except RecordingError as e:  # found only in saying it: a text espeak-ng crashed on
+            raise ScriptError([e.diagnostic()], script.filename, script.source) from None
 
     def take_over(self, script: Script, now: float) -> Timeline:
         """Compile `script` to take over at `now` from the face as it is then, the statements

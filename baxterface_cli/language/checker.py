@@ -11,9 +11,9 @@ from typing import Any, Callable, Dict, Iterator, List, Optional, Sequence, Set,
 from ..core.tables import LIMITS
 from . import syntax_tree as n
 from .diagnostics import Diagnostic, Hints, shortened
-from .durations import statement_seconds
 from .script_length import in_words, over_limit
-from .vocabulary import BARE_WORDS, KEYWORDS, LEGACY_USAGE
+from .statements import KEYWORDS, statement_seconds
+from .vocabulary import BARE_WORDS, LEGACY_USAGE
 
 
 def check(body: Sequence[Any]) -> List[Diagnostic]:

@@ -15,7 +15,8 @@ from ..core.expression import CONTROLS
 from ..core.tables import EMOTIONS, MOUTHS
 from . import syntax_tree as n
 from .diagnostics import one_of, shortened
-from .vocabulary import BARE_WORDS, KEYWORDS
+from .statements import KEYWORDS
+from .vocabulary import BARE_WORDS
 
 
 class _Variant:

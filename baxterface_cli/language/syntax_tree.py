@@ -55,7 +55,7 @@ class Block(Statement):
 class Timing:
     """How a move is timed: `in T` (None leaves the statement's default) and its easing.
 
-    `durations.move_seconds` resolves the default, for the compiler, the
+    `statements.move_seconds` resolves the default, for the compiler, the
     checker and `explain` alike.
     """
 
@@ -273,7 +273,7 @@ class Script:
         return {s.name: s for s in self.body if isinstance(s, Define)}
 
 
-BLOCKS = (Repeat, Together, Define)
+BLOCKS = tuple(Block.__subclasses__())  # Repeat, Together, Define: every node that holds others
 
 
 def to_json(node: Any) -> Any:

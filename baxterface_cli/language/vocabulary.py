@@ -12,15 +12,12 @@ from typing import Any, Callable, Dict, Tuple
 
 from ..core.tables import EMOTIONS, FollowTarget
 from . import syntax_tree as n
+from .statements import KINDS
 
 BARE_WORDS: Dict[str, Callable[..., Any]] = {
     **{name: partial(n.Emotion, name) for name in EMOTIONS if " " not in name},
     "wake_up": partial(n.Emotion, "wake up"),
-    "blink": n.Blink,
-    "nod": n.Nod,
-    "enable": n.Enable,
-    "disable": n.Disable,
-    "exit": n.Exit,
+    **{kind.bare: kind.node for kind in KINDS.values() if kind.bare},  # `blink`, `nod`, `exit`
     "human_follow_on": partial(n.Follow, FollowTarget.HUMAN),
     "dynamic_human_follow_on": partial(n.Follow, FollowTarget.HUMAN, True),
     "left_arm_follow_on": partial(n.Follow, FollowTarget.LEFT_ARM),
@@ -50,28 +47,3 @@ LEGACY_USAGE: Dict[str, Tuple[Tuple[int, ...], str]] = {
     "wobble": ((1,), "wobble_RADIANS"),
     "skin": ((1,), "skin_N with N from 0 to 5"),
 }
-
-
-# The grammar's keywords (kept equal to grammar/face.lark by a test), offered
-# in "did you mean" and reserved from definition names.
-KEYWORDS: Tuple[str, ...] = (
-    "look",
-    "dynamic",
-    "wake",
-    "wait",
-    "wobble",
-    "skin",
-    "mouth",
-    "brows",
-    "eyelids",
-    "follow",
-    "repeat",
-    "together",
-    "define",
-    "say",
-    "mood",
-    "wink",
-    "pupils",
-    "eyes",
-    "variant",
-)

@@ -1,8 +1,10 @@
 """espeak-ng's C library through ctypes: loaded when something is said, one synthesizer per process.
 
-speak_lib.h's structures and calls, the lock every call goes through, and a
+speak_lib.h's structures and calls, the lock every call goes through, a
 session that loads the library, reads its sample rate and version, and
-unloads it. The engine that speaks with it is in synthesis.py.
+unloads it, and one synthesis in the raw (sound and events). Only the speech
+process (espeak_child.py) calls it: espeak-ng 1.51 crashes on some texts, and
+must take no more than that process down. The engine is in synthesis.py.
 """
 
 from __future__ import annotations
@@ -11,7 +13,7 @@ import _ctypes
 import ctypes
 import ctypes.util
 import threading
-from typing import Any, Optional, Tuple
+from typing import Any, List, NamedTuple, Optional, Tuple
 
 from ..extras import MissingTool
 
@@ -201,3 +203,60 @@ def _event_sample(event: _Event, sample_rate: int) -> int:
     if abs(event.sample * 1000 // sample_rate - event.audio_position) <= 1:
         return event.sample
     return event.audio_position * sample_rate // 1000
+
+
+class Heard(NamedTuple):
+    """One event the synthesizer reported, in the raw."""
+
+    kind: int
+    sample: int  # samples from the start of its audio; the sample rate, for a sample rate event
+    text_position: int
+    name: str  # a phoneme's mnemonic; empty for other events
+
+
+class Spoken(NamedTuple):
+    """What one espeak_Synth call gave: its status, its sound (int16 mono, native order) and events."""
+
+    status: int
+    pcm: bytes
+    heard: List[Heard]
+
+
+def synthesize(path: str, text: str, voice: str, rate: int) -> Spoken:
+    """`text` said by the library at `path` in `voice` at `rate` words a minute; ValueError for a voice
+    it lacks."""
+    # A NUL would end the C string early; a space keeps every character where it was.
+    data = text.replace("\0", " ").encode("utf-8", "replace") + b"\0"
+    chunks: List[bytes] = []
+    heard: List[Heard] = []
+    with _Session(path) as (lib, sample_rate):
+
+        def collect(wav: Any, count: int, events: Any) -> int:
+            # Runs inside espeak_Synth. An exception here cannot reach the caller, so this only
+            # copies what it is given.
+            if wav and count > 0:
+                chunks.append(ctypes.string_at(wav, count * 2))
+            i = 0
+            while events and events[i].type != _EVENT_END_OF_LIST:
+                e = events[i]
+                if e.type == _EVENT_SAMPLERATE:
+                    heard.append(Heard(e.type, e.id.number, 0, ""))
+                elif e.type in (_EVENT_WORD, _EVENT_PHONEME):
+                    name = e.id.string.decode("utf-8", "replace") if e.type == _EVENT_PHONEME else ""
+                    heard.append(Heard(e.type, _event_sample(e, sample_rate), e.text_position, name))
+                i += 1
+            return 0
+
+        callback = _SynthCallback(collect)  # kept until the call returns: espeak-ng holds only a pointer
+        _select(lib, voice)
+        lib.espeak_SetParameter(_RATE, rate, 0)
+        lib.espeak_SetSynthCallback(callback)
+        status = lib.espeak_Synth(data, len(data), 0, _POS_CHARACTER, 0, _CHARS_UTF8, None, None)
+    return Spoken(status, b"".join(chunks), heard)
+
+
+def voice_file(path: str, voice: str) -> str:
+    """The espeak-ng voice file a voice name selects, e.g. "gmw/en-US" for "en-us"."""
+    with _Session(path) as (lib, _):
+        _select(lib, voice)
+        return (lib.espeak_GetCurrentVoice().contents.identifier or b"").decode("utf-8", "replace")

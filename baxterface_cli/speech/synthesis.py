@@ -1,7 +1,9 @@
 """Speech: text to sound, with the time of every phoneme and word, from espeak-ng.
 
 libespeak-ng is a system library (`apt install espeak-ng`), loaded through
-ctypes only when something is said. The phoneme times are the synthesizer's
+ctypes only when something is said, in a process of its own (espeak_process.py):
+espeak-ng 1.51 crashes on some texts, and that must fail the one `say`, not
+the program that asked. The phoneme times are the synthesizer's
 own, counted in samples of the sound it hands back, so a mouth drawn from them
 cannot drift from the voice. The same text, voice and rate always give the same
 samples. The voices `say` accepts are known without espeak-ng (see `voices`).
@@ -10,40 +12,26 @@ samples. The voices `say` accepts are known without espeak-ng (see `voices`).
 from __future__ import annotations
 
 import bisect
-import ctypes
-import ctypes.util
 import re
+import threading
 import unicodedata
 from collections import OrderedDict
 from dataclasses import dataclass, field
-from typing import Any, Dict, FrozenSet, List, NamedTuple, Optional, Tuple
+from typing import Dict, FrozenSet, List, NamedTuple, Optional, Tuple
 
 import numpy as np
 
 from ..core.voices import DEFAULT_RATE, DEFAULT_VOICE, RATES, known_voice, voice_names
 from ..language.diagnostics import did_you_mean
-from .espeak import (
-    _CHARS_UTF8,
-    _EE_OK,
-    _EVENT_END_OF_LIST,
-    _EVENT_PHONEME,
-    _EVENT_SAMPLERATE,
-    _EVENT_WORD,
-    _LOCK,
-    _POS_CHARACTER,
-    _RATE,
-    _event_sample,
-    _library,
-    _select,
-    _Session,
-    _SynthCallback,
-)
+from .espeak import _EE_OK, _EVENT_PHONEME, _EVENT_SAMPLERATE, _EVENT_WORD, Heard
+from .espeak_process import EspeakProcess, SynthesisFailed
 
 __all__ = [
     "DEFAULT_RATE",
     "DEFAULT_VOICE",
     "RATES",
     "VOICES",
+    "SynthesisFailed",
     "Phoneme",
     "Recording",
     "SpeechEngine",
@@ -120,18 +108,14 @@ TRIM = Trim()
 # Utterances remembered (play, render and explain may each ask for the same one), by the bytes of
 # their sound: one of 1000 characters can be four minutes, 10 MB.
 CACHE_BYTES = 32 * 2**20
+# Texts espeak-ng crashed on, by (text, voice, rate), not tried again: each try costs a new process.
+FAILURES_KEPT = 256
 
 
 _engine: Optional[SpeechEngine] = None
 
 
-class _Heard(NamedTuple):
-    """One event the synthesizer reported, in the raw."""
-
-    kind: int
-    sample: int  # samples from the start of its audio; the sample rate, for a sample rate event
-    text_position: int
-    name: str  # a phoneme's mnemonic; empty for other events
+_LOCK = threading.Lock()  # the engine's cache; synthesis itself goes on outside it
 
 
 def unknown_voice_message(voice: str) -> str:
@@ -143,16 +127,16 @@ def unknown_voice_message(voice: str) -> str:
 class SpeechEngine:
     """Says text with espeak-ng. Use `engine()`, the one shared engine."""
 
-    def __init__(self) -> None:
-        self._path, self.sample_rate, _ = _library()
-        self._chunks: List[bytes] = []
-        self._heard: List[_Heard] = []
-        # Kept on the object: espeak-ng holds only a pointer to it.
-        self._callback = _SynthCallback(self._collect)
+    def __init__(self, process: Optional[EspeakProcess] = None) -> None:
+        self._process = process or EspeakProcess()
+        self._process.start()  # MissingTool, said at once, without espeak-ng
+        self.sample_rate = self._process.sample_rate
         self._cache: OrderedDict[Tuple[str, str, int], Utterance] = OrderedDict()
+        self._failed: OrderedDict[Tuple[str, str, int], str] = OrderedDict()
 
     def say(self, text: str, voice: str = DEFAULT_VOICE, rate: int = DEFAULT_RATE) -> Utterance:
-        """`text` spoken, trimmed to the voice; ValueError for an unknown voice or a rate out of RATES."""
+        """`text` spoken, trimmed to the voice; ValueError for an unknown voice or a rate out of RATES,
+        SynthesisFailed for a text espeak-ng crashed on (or took too long over)."""
         if not known_voice(voice):
             raise ValueError(unknown_voice_message(voice))
         if isinstance(rate, bool) or int(rate) != rate or not RATES[0] <= rate <= RATES[1]:
@@ -165,55 +149,44 @@ class SpeechEngine:
             if cached is not None:
                 self._cache.move_to_end(key)
                 return cached
+            if key in self._failed:
+                raise SynthesisFailed(self._failed[key], crashed=True)
+        try:
             utterance = self._synthesize(*key)
+        except SynthesisFailed as e:
+            if e.crashed:
+                with _LOCK:
+                    self._failed[key] = str(e)
+                    while len(self._failed) > FAILURES_KEPT:
+                        self._failed.popitem(last=False)
+            raise
+        with _LOCK:
             self._cache[key] = utterance
             held = sum(u.samples.nbytes for u in self._cache.values())
             while len(self._cache) > 1 and held > CACHE_BYTES:
                 held -= self._cache.popitem(last=False)[1].samples.nbytes
-            return utterance
+        return utterance
 
     def voice_file(self, voice: str) -> str:
         """The espeak-ng voice file a voice name selects, e.g. "gmw/en-US" for "en-us"."""
-        with _Session(self._path) as (lib, _):
-            _select(lib, voice)
-            return (lib.espeak_GetCurrentVoice().contents.identifier or b"").decode("utf-8", "replace")
+        return self._process.voice_file(voice)
+
+    def close(self) -> None:
+        """End the speech process now rather than at exit (a later `say` starts another)."""
+        self._process.close()
 
     def _synthesize(self, text: str, voice: str, rate: int) -> Utterance:
-        # A NUL would end the C string early; a space keeps every character where it was.
-        data = text.replace("\0", " ").encode("utf-8", "replace") + b"\0"
-        with _Session(self._path) as (lib, _):
-            _select(lib, voice)
-            lib.espeak_SetParameter(_RATE, rate, 0)
-            lib.espeak_SetSynthCallback(self._callback)
-            self._chunks, self._heard = [], []
-            status = lib.espeak_Synth(data, len(data), 0, _POS_CHARACTER, 0, _CHARS_UTF8, None, None)
-            chunks, heard = self._chunks, self._heard
-            self._chunks, self._heard = [], []
-        if status != _EE_OK:
-            raise RuntimeError(f"espeak-ng could not say {text!r} (error {status})")
+        spoken = self._process.say(text, voice, rate)
+        if spoken.status != _EE_OK:
+            raise RuntimeError(f"espeak-ng could not say {text!r} (error {spoken.status})")
+        heard = spoken.heard
         sample_rate = next((h.sample for h in heard if h.kind == _EVENT_SAMPLERATE), self.sample_rate)
-        samples = np.frombuffer(b"".join(chunks), dtype=np.int16)
+        samples = np.frombuffer(spoken.pcm, dtype=np.int16)
         return _utterance(text, voice, rate, samples, sample_rate, heard)
-
-    def _collect(self, wav: Any, count: int, events: Any) -> int:
-        # Runs inside espeak_Synth, under the lock. An exception here cannot reach the caller, so
-        # this only copies what it is given.
-        if wav and count > 0:
-            self._chunks.append(ctypes.string_at(wav, count * 2))
-        i = 0
-        while events and events[i].type != _EVENT_END_OF_LIST:
-            e = events[i]
-            if e.type == _EVENT_SAMPLERATE:
-                self._heard.append(_Heard(e.type, e.id.number, 0, ""))
-            elif e.type in (_EVENT_WORD, _EVENT_PHONEME):
-                name = e.id.string.decode("utf-8", "replace") if e.type == _EVENT_PHONEME else ""
-                self._heard.append(_Heard(e.type, _event_sample(e, self.sample_rate), e.text_position, name))
-            i += 1
-        return 0
 
 
 def _utterance(
-    text: str, voice: str, rate: int, samples: np.ndarray, sample_rate: int, heard: List[_Heard]
+    text: str, voice: str, rate: int, samples: np.ndarray, sample_rate: int, heard: List[Heard]
 ) -> Utterance:
     """The utterance with its silent ends cut off and the events moved to match."""
     loud = np.flatnonzero(np.abs(samples.astype(np.int32)) > TRIM.threshold)

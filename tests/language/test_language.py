@@ -13,7 +13,7 @@ from baxterface_cli.core.tables import LIMITS
 from baxterface_cli.language import syntax_tree as n
 from baxterface_cli.language.checker import measure
 from baxterface_cli.language.parser import grammar
-from baxterface_cli.language.vocabulary import KEYWORDS
+from baxterface_cli.language.statements import KEYWORDS
 
 pytestmark = pytest.mark.language
 

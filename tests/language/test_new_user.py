@@ -11,8 +11,8 @@ from baxterface_cli.core.tables import EMOTIONS
 from baxterface_cli.drawing.renderer import compose
 from baxterface_cli.drawing.theme import Theme
 from baxterface_cli.engine.compiler import compile_script
-from baxterface_cli.engine.statement_words import describe
 from baxterface_cli.language import syntax_tree as n
+from baxterface_cli.language.statements import describe
 from tests.conftest import baxterface
 
 pytestmark = pytest.mark.language
