@@ -1,13 +1,18 @@
 """Lip-sync from recordings (`say file`): how right the mouth is, and how fast it is found.
 
-    .venv/bin/python bench/bench_lipsync.py
+    .venv/bin/python bench/bench_lipsync.py [--held-out | --languages]
 
 The recordings are made by espeak-ng (through the engine `say` uses), so the
 true phoneme times are known, at voices and rates the tests do not use
 (en-us at 165 and en-gb-x-rp at 195 words a minute), with 0.3 s of quiet
-around them and white noise 40 dB under the voice's peak throughout. The
-truth is the mouth `say` shows for the same words, voice and rate; each way
-of finding a recording's mouth is held to it, frame by frame at 30 fps:
+around them and white noise 40 dB under the voice's peak throughout. With
+`--held-out`, other recordings, which nothing was tuned on: other sentences,
+in five other voices and rates, with white noise 40 and then 20 dB under
+the voice (signal-to-noise ratio: the voice's RMS over its voiced part to
+the noise's). With `--languages`, two sentences in each of eight other
+languages, noise 30 dB under the voice. The truth is the mouth `say` shows for the same words, voice
+and rate; each way of finding a recording's mouth is held to it, frame by
+frame at 30 fps:
 
 - boundaries: for each change of the true mouth, how far (in frames) the
   nearest change of the found mouth is; the median (goal: within one frame);
@@ -46,23 +51,70 @@ SENTENCES = [
 ]
 VOICES = [("en-us", 165), ("en-gb-x-rp", 195)]
 PAD, NOISE_DB, FPS = 0.3, -40.0, 30
+HELD_OUT_SENTENCES = [
+    "Could you hand me the yellow bottle from the shelf behind you?",
+    "We finished the job early, so everyone went home before lunch.",
+    "Robots move boxes, but they also learn to watch and listen.",
+    "Please speak slowly; I am still learning how to understand people.",
+]
+HELD_OUT_VOICES = [
+    ("en-gb", 150),
+    ("en-gb-scotland", 180),
+    ("en-us", 130),
+    ("en-gb-x-gbclan", 170),
+    ("en-029", 160),
+]
+HELD_OUT_NOISE = [-40.0, -20.0]  # under the voice's RMS: SNR 40 and 20 dB
+LANGUAGES = {  # --languages: two sentences in each of other languages espeak-ng speaks
+    "fr": [
+        "Bonjour, je m'appelle Baxter et je travaille dans un laboratoire.",
+        "Pose la boîte bleue sur la table, puis apporte-moi la petite tasse.",
+    ],
+    "de": [
+        "Guten Morgen, ich heiße Baxter und arbeite in einem Labor.",
+        "Stell die blaue Kiste auf den Tisch und bring mir die kleine Tasse.",
+    ],
+    "es": [
+        "Buenos días, me llamo Baxter y trabajo en un laboratorio.",
+        "Pon la caja azul sobre la mesa y tráeme la taza pequeña.",
+    ],
+    "it": [
+        "Buongiorno, mi chiamo Baxter e lavoro in un laboratorio.",
+        "Metti la scatola blu sul tavolo e portami la tazza piccola.",
+    ],
+    "nl": [
+        "Goedemorgen, ik heet Baxter en ik werk in een laboratorium.",
+        "Zet de blauwe doos op de tafel en breng me het kleine kopje.",
+    ],
+    "pt": [
+        "Bom dia, o meu nome é Baxter e trabalho num laboratório.",
+        "Põe a caixa azul em cima da mesa e traz-me a chávena pequena.",
+    ],
+    "ko": [
+        "안녕하세요, 제 이름은 백스터이고 실험실에서 일해요.",
+        "파란 상자를 탁자 위에 놓고 작은 컵을 가져다 주세요.",
+    ],
+    "cmn": ["早上好，我叫巴克斯特，我在实验室工作。", "把蓝色的盒子放在桌子上，然后把小杯子拿给我。"],
+}
 
 
-def make_recordings(folder: Path):
-    """(path, text, true utterance) for every sentence in every voice, written as noisy WAV files."""
+def make_recordings(folder: Path, sentences=SENTENCES, voices=VOICES, noise_db=NOISE_DB, to_rms=False):
+    """(path, text, true utterance) for every sentence in every voice, written as noisy WAV files;
+    the noise `noise_db` under the voice's peak, or its RMS (`to_rms`)."""
     from baxterface_cli.speech.soundtrack import write_wav
     from baxterface_cli.speech.synthesis import Phoneme, Utterance, engine
 
     rng = np.random.default_rng(7)
     out = []
-    for voice, rate in VOICES:
-        for i, text in enumerate(SENTENCES):
+    for voice, rate in voices:
+        for i, text in enumerate(sentences):
             said = engine().say(text, voice, rate)
             quiet = np.zeros(round(PAD * said.sample_rate), np.int16)
             clean = np.concatenate([quiet, said.samples, quiet])
-            peak = float(np.abs(clean).max())
-            noisy = clean + rng.normal(0, peak * 10 ** (NOISE_DB / 20), len(clean))
-            path = folder / f"{voice}-{i}.wav"
+            voiced = said.samples[np.abs(said.samples) > 64].astype(np.float64)
+            level = float(np.sqrt(np.mean(voiced**2))) if to_rms else float(np.abs(clean).max())
+            noisy = clean + rng.normal(0, level * 10 ** (noise_db / 20), len(clean))
+            path = folder / f"{voice}-{rate}-{i}-{-noise_db:.0f}.wav"
             write_wav(str(path), np.clip(noisy, -32768, 32767).astype(np.int16), said.sample_rate)
             phonemes = tuple(Phoneme(p.at + PAD, p.end + PAD, p.name) for p in said.phonemes)
             out.append((path, text, Utterance(text, voice, rate, clean, said.sample_rate, phonemes, ())))
@@ -95,57 +147,75 @@ def measure(truth, track):
 
 
 def main() -> None:
-    from baxterface_cli import parse
-    from baxterface_cli.engine.compiler import compile_script
-    from baxterface_cli.speech import recordings
-    from baxterface_cli.speech.audio_files import read_sound
-
+    held_out = "--held-out" in sys.argv[1:]
     with tempfile.TemporaryDirectory() as tmp:
         os.environ["XDG_CACHE_HOME"] = str(Path(tmp) / "cache")  # a cache of its own, empty
-        folder = Path(tmp)
-        made = make_recordings(folder)
-        seconds = sum(truth.duration for _, _, truth in made)
+        if "--languages" in sys.argv[1:]:
+            for language, sentences in LANGUAGES.items():
+                made = make_recordings(Path(tmp), sentences, [(language, 160)], -30.0, to_rms=True)
+                run(made, Path(tmp), [(language, 160)], "SNR 30 dB", f" language {language}")
+            return
+        if not held_out:
+            run(make_recordings(Path(tmp)), Path(tmp), VOICES, f"noise {NOISE_DB:.0f} dB under the peak")
+            return
+        for noise in HELD_OUT_NOISE:
+            made = make_recordings(Path(tmp), HELD_OUT_SENTENCES, HELD_OUT_VOICES, noise, to_rms=True)
+            run(made, Path(tmp), HELD_OUT_VOICES, f"held out, SNR {-noise:.0f} dB")
+
+
+def run(made, folder: Path, voices, noise: str, other_language: str = "") -> None:
+    from baxterface_cli import parse
+    from baxterface_cli.engine.compiler import compile_script
+    from baxterface_cli.speech import phoneme_recogniser, recordings
+    from baxterface_cli.speech.audio_files import read_sound
+
+    seconds = sum(truth.duration for _, _, truth in made)
+    start = time.process_time()
+    for path, _, _ in made:
+        read_sound(str(path))
+    reading = time.process_time() - start
+    print(
+        f"{len(made)} recordings, {seconds:.1f} s of speech "
+        f"({', '.join(f'{v} at {r}' for v, r in voices)}), {noise}; one core"
+    )
+    print(f"  reading the files (baseline)   {seconds / reading:6.0f}x real time")
+    methods = [
+        ("with its words (aligned)", "text", "", True),
+        ("without them (recognised)", "", "", True),
+        ("without them, phoneme loop", "", "", False),
+        ("loudness and spectrum", "", " language fr", False),
+    ]
+    if other_language:  # what may be found in another language: recognised, or its spectrum
+        methods = [(name, "", other_language, hama) for name, _, _, hama in methods[1::2]]
+    recogniser = phoneme_recogniser.available
+    for name, words, option, hama in methods:
+        phoneme_recogniser.available = recogniser if hama else lambda: False
+        distances, right, frames, rested, pauses = [], 0, 0, 0, 0
         start = time.process_time()
-        for path, _, _ in made:
-            read_sound(str(path))
-        reading = time.process_time() - start
-        voices = ", ".join(f"{v} at {r}" for v, r in VOICES)
+        tracks = []
+        for path, text, truth in made:
+            written = f' text "{text}"' if words else ""
+            script = parse(f'say file "{path.name}"{written}{option}', str(folder / "bench.face"))
+            (said,) = compile_script(script).speech
+            tracks.append((truth, said.mouth))
+        work = time.process_time() - start
+        for truth, track in tracks:
+            d, r, f, rs, p = measure(truth, track)
+            distances += d
+            right, frames, rested, pauses = right + r, frames + f, rested + rs, pauses + p
+        recordings._recent.clear()  # the second time: from the cache on disk, as a new process
+        start = time.process_time()
+        for path, text, _ in made:
+            written = f' text "{text}"' if words else ""
+            compile_script(parse(f'say file "{path.name}"{written}{option}', str(folder / "bench.face")))
+        again = time.process_time() - start
         print(
-            f"{len(made)} recordings, {seconds:.1f} s of speech ({voices}), "
-            f"noise {NOISE_DB:.0f} dB under the peak; one core"
+            f"  {name:<28} boundaries {statistics.median(distances):4.2f} frames (median; "
+            f"p75 {np.percentile(distances, 75):.2f})  shape {100 * right / frames:5.1f} % of frames  "
+            f"pauses at rest {rested}/{pauses}  analysis {seconds / work:5.1f}x real time, "
+            f"cached {seconds / again:5.0f}x"
         )
-        print(f"  reading the files (baseline)   {seconds / reading:6.0f}x real time")
-        methods = [
-            ("with its words (aligned)", "text", ""),
-            ("without them (heard)", "", ""),
-            ("loudness and spectrum", "", " language fr"),
-        ]
-        for name, words, option in methods:
-            distances, right, frames, rested, pauses = [], 0, 0, 0, 0
-            start = time.process_time()
-            tracks = []
-            for path, text, truth in made:
-                written = f' text "{text}"' if words else ""
-                script = parse(f'say file "{path.name}"{written}{option}', str(folder / "bench.face"))
-                (said,) = compile_script(script).speech
-                tracks.append((truth, said.mouth))
-            work = time.process_time() - start
-            for truth, track in tracks:
-                d, r, f, rs, p = measure(truth, track)
-                distances += d
-                right, frames, rested, pauses = right + r, frames + f, rested + rs, pauses + p
-            recordings._recent.clear()  # the second time: from the cache on disk, as a new process
-            start = time.process_time()
-            for path, text, _ in made:
-                written = f' text "{text}"' if words else ""
-                compile_script(parse(f'say file "{path.name}"{written}{option}', str(folder / "bench.face")))
-            again = time.process_time() - start
-            print(
-                f"  {name:<28} boundaries {statistics.median(distances):4.2f} frames (median; "
-                f"p75 {np.percentile(distances, 75):.2f})  shape {100 * right / frames:5.1f} % of frames  "
-                f"pauses at rest {rested}/{pauses}  analysis {seconds / work:5.1f}x real time, "
-                f"cached {seconds / again:5.0f}x"
-            )
+    phoneme_recogniser.available = recogniser
 
 
 if __name__ == "__main__":

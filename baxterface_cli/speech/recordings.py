@@ -10,10 +10,14 @@ The phonemes are found once per file content and way of finding them, and
 kept in the user's cache folder (`$XDG_CACHE_HOME/baxterface/lipsync`, by
 default `~/.cache/...`), so a script plays at once the second time:
 
-- English (the default `language`), with pocketsphinx: its phonemes, aligned
-  to the words when the script gives them (`text`), else decoded;
-- another language, or without pocketsphinx: the sound's loudness and
-  spectrum (sound_mouth.py), after a one-line warning naming the extra.
+- with pocketsphinx: its phonemes, aligned to the words when the script gives
+  them (`text`, English only), else to the words hama's phoneme recogniser
+  hears (phoneme_recogniser.py; any language), else, for English, decoded by
+  pocketsphinx's phoneme loop (without hama: Python 3.8, or no engine for
+  the machine);
+- otherwise (another language without hama, or no pocketsphinx): the sound's
+  loudness and spectrum (sound_mouth.py), after a one-line warning naming
+  the extra where pocketsphinx is what is missing.
 
 The mouth then follows them by the same table and rules as `say` (visemes.py).
 """
@@ -21,6 +25,7 @@ The mouth then follows them by the same table and rules as `say` (visemes.py).
 from __future__ import annotations
 
 import contextlib
+import functools
 import hashlib
 import json
 import math
@@ -37,7 +42,7 @@ from ..core.partial_files import write_atomic
 from ..language import syntax_tree as n
 from ..language.checker import check_length, walk
 from ..language.diagnostics import Diagnostic
-from . import phones_heard
+from . import phoneme_recogniser, phones_heard
 from .audio_files import ANALYSIS_RATE, EXTRA, AudioError, check_file, probe, read_sound
 from .phone_names import espeak_phonemes, frame_loudness, spelled
 from .phones_heard import FRAME
@@ -49,6 +54,7 @@ from .wav_header import HeaderError, open_recording
 # How a recording's phonemes were found, as `explain` says it.
 METHODS = {
     "aligned": "phonemes aligned to its words",
+    "recognised": "phonemes recognised",
     "heard": "phonemes heard",
     "spectrum": "loudness and spectrum",
 }
@@ -67,14 +73,18 @@ _LOCK = threading.Lock()
 
 
 class RecordingError(ValueError):
-    """A `say file` that cannot be said: the file is missing, unreadable or out of bounds."""
+    """A `say` that cannot be said: a `say file` whose file is missing, unreadable or out of bounds,
+    or a text espeak-ng crashed on."""
 
     def __init__(self, message: str, say: Optional[n.Say] = None) -> None:
         super().__init__(message)
         self.say = say
 
     def diagnostic(self) -> Diagnostic:
-        pos = self.say.file_pos if self.say is not None else n.NOWHERE
+        if self.say is None:
+            pos = n.NOWHERE
+        else:
+            pos = self.say.file_pos if self.say.file is not None else self.say.pos
         return Diagnostic(pos.line, pos.column, str(self))
 
 
@@ -200,9 +210,11 @@ class Recordings:
         self, sound: Any, digest: str, method: str, say: n.Say
     ) -> Tuple[Tuple[Phoneme, ...], Tuple[Word, ...], str]:
         folder = self.cache or cache_folder()
-        # Only an alignment reads the words: a new `text` for a long recording is the same analysis.
+        # Only an alignment reads the words, in English: a new `text` for a long recording, or for
+        # another language, is the same analysis.
+        english = _english(say.language)
         aligns = method != "spectrum" and len(sound.analysis) <= phones_heard.ALIGN_SECONDS * ANALYSIS_RATE
-        text = say.text if aligns else ""
+        text = say.text if aligns and english else ""
         name = f"{ANALYSIS_VERSION}\n{digest}\n{method}\n{say.language or ''}\n{text}"
         kept = folder / (hashlib.sha256(name.encode("utf-8")).hexdigest() + ".json")
         found = _read_kept(kept)
@@ -213,10 +225,13 @@ class Recordings:
         if method == "spectrum":
             phonemes, words = spectrum_phonemes(sound.analysis, ANALYSIS_RATE), ()
         else:
-            heard = phones_heard.hear(sound.analysis, say.text, _spell)
+            recognise = None
+            if method == "recognised":
+                recognise = functools.partial(phoneme_recogniser.recognise, english=english)
+            heard = phones_heard.hear(sound.analysis, text, _spell, recognise)
             phonemes = espeak_phonemes(heard.phones, sound.analysis, ANALYSIS_RATE)
             words = tuple(Word(at, text) for at, text in heard.words)
-            method = "aligned" if heard.aligned else "heard"
+            method = "aligned" if heard.aligned else "recognised" if heard.recognised else "heard"
         record = {
             "method": method,
             "phonemes": [[p.at, p.end, p.name] for p in phonemes],  # as they are: JSON keeps every bit
@@ -276,8 +291,17 @@ def _quiet_run(loudness: np.ndarray, start: float, end: float, silence: float) -
     return longest * FRAME
 
 
+def _english(language: Optional[str]) -> bool:
+    return language is None or language.startswith("en")
+
+
 def _method(language: Optional[str], warn: Callable[[str], None]) -> str:
-    if language is not None and not language.startswith("en"):
+    """How the phonemes are to be found: any language is recognised (hama hears many, and
+    pocketsphinx's English phones place theirs well enough), else English is heard by the
+    phoneme loop, and the rest followed by its loudness and spectrum."""
+    if phones_heard.available() and phoneme_recogniser.available():
+        return "recognised"
+    if not _english(language):
         return "spectrum"
     if phones_heard.available():
         return "heard"
