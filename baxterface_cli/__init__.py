@@ -22,6 +22,7 @@ LAYERS = (
     "play",
     "ros",
     "export",
+    "web",
     "studio",
     "screen",
     "cli",

@@ -1,5 +1,5 @@
-"""The modules' old import paths, from before the package had rooms: each still imports, with a
-DeprecationWarning naming its new place, until the next release.
+"""The modules' old import paths, from before the package had rooms or from a room they left: each
+still imports, with a DeprecationWarning naming its new place, until the next release.
 
 `import baxterface_cli.face` gives the very module `baxterface_cli.drawing.face` is, so
 code that patched or compared it keeps working.
@@ -48,7 +48,8 @@ MOVED = {
     "camera": "robot.camera_watch",
     "buttons": "robot.navigator_buttons",
     "playback": "play.player",
-    "rehearsal": "play.rehearsal",
+    "rehearsal": "robot.rehearsal",
+    "play.rehearsal": "robot.rehearsal",
     "ros.node": "ros.face_node",
     "formats": "export.registry",
     "output": "export.png_gif",
@@ -56,6 +57,13 @@ MOVED = {
     "animated": "export.apng",
     "bag": "export.bag",
     "rendering": "export.render_to_file",
+    # what every face page shares, out of the studio into a room beneath it and the screen
+    "studio.face_api": "web.face_api",
+    "studio.pump": "web.pump",
+    "studio.guard": "web.guard",
+    "studio.server": "web.server",
+    "studio.connections": "web.connections",
+    "screen.web": "screen.screen_api",
 }
 
 

@@ -475,9 +475,9 @@ def face_following(times=(1.5, 3.2, 5.0, 6.6), scene="combined") -> Image.Image:
     sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests" / "support"))
     import face_streams
     import far_streams
-    from baxterface_cli.play.rehearsal import Rehearsal
     from baxterface_cli.robot.face_finder import BAXTER_HEAD_CAMERA_HFOV
     from baxterface_cli.robot.following import DEGREES_PER_RADIAN, PIXELS_PER_ELEVATION
+    from baxterface_cli.robot.rehearsal import Rehearsal
 
     stream = getattr(face_streams, scene, None) or getattr(far_streams, scene)
     stream = stream()

@@ -83,6 +83,18 @@ def test_no_import_points_up_the_order():
     assert not upward, "\n".join(upward)
 
 
+def test_the_studio_and_the_screen_share_the_web_room_and_neither_imports_the_other():
+    # The layer order alone would let the screen, above the studio, import it: what both pages
+    # need is the web room's, beneath them.
+    crossing = [
+        f"{module} imports {target}"
+        for module, targets in graph().items()
+        for target in targets
+        if {room(module), room(target)} == {"studio", "screen"}
+    ]
+    assert not crossing, "\n".join(crossing)
+
+
 def test_no_import_closes_a_circle():
     edges = graph()
     done: Set[str] = set()

@@ -183,7 +183,7 @@ def following_from(path: Optional[str], animation, command: str, say, face_polic
     if path is None:
         return None
     from ..engine.effects import Follow
-    from ..play.rehearsal import FollowSourceError, Rehearsal, open_source
+    from ..robot.rehearsal import FollowSourceError, Rehearsal, open_source
 
     try:
         source = open_source(path)

@@ -60,11 +60,10 @@ def screen(
             raise fail(e.render()) from None
         echo_warnings(script)
     from ..drawing.renderer import Renderer
+    from ..screen.screen_api import ScreenApi
     from ..screen.screen_face import ScreenFace
-    from ..screen.web import ScreenApi
-    from ..studio.guard import is_loopback
-    from ..studio.pump import logger
-    from ..studio.server import bind, serve, url_for
+    from ..web.guard import is_loopback
+    from ..web.server import bind, logger, serve, url_for
 
     renderer = Renderer(fitted_theme(theme, size, "screen"))
     renderer.prepare_in_background()

@@ -36,7 +36,7 @@ from .app import (
 if TYPE_CHECKING:  # imported where used: `check` needs neither drawing nor playing
     from ..drawing.renderer import Renderer
     from ..engine.animation import Animation
-    from ..play.rehearsal import Rehearsal
+    from ..robot.rehearsal import Rehearsal
 
 
 def check(

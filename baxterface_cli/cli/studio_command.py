@@ -56,11 +56,10 @@ def studio(
     except MissingTool as e:
         raise fail(f"baxterface studio: {e}") from None
     from ..drawing.renderer import Renderer
-    from ..studio.api import create_app
-    from ..studio.guard import is_loopback
-    from ..studio.pump import log
-    from ..studio.server import bind, serve, url_for
+    from ..studio.api import create_app, log
     from ..studio.workspace import Workspace
+    from ..web.guard import is_loopback
+    from ..web.server import bind, serve, url_for
 
     path = Path(script_path or "studio.face")
     if path.is_dir():

@@ -16,7 +16,7 @@ from .sink import Export
 from .target import check_target
 
 if TYPE_CHECKING:  # following is only imported by those who follow
-    from ..play.rehearsal import Rehearsal
+    from ..robot.rehearsal import Rehearsal
 
 Progress = Callable[[int, int], None]  # (frames done, frames in all)
 

@@ -1,3 +1,5 @@
-"""Real time on this machine: player (a window or the terminal, with sound) and rehearsal
-(following against a recorded file instead of the robot's sensors).
+"""Real time on this machine: the player (a window or the terminal, with sound).
+
+Following against a recorded file instead of the robot's sensors is the robot's side
+(robot/rehearsal.py); the player hands it each frame.
 """

@@ -21,8 +21,8 @@ from ..drawing.renderer import Renderer
 from ..engine.animation import Animation
 from ..engine.effects import quoted
 from ..engine.timeline import RobotStatus
+from ..robot.rehearsal import Rehearsal
 from ..speech.sound_device import START_AHEAD, SoundOut, SpeechCues
-from .rehearsal import Rehearsal
 
 UPPER_HALF = "\u2580"
 

@@ -1,9 +1,10 @@
 """The robot's side, without ROS: the rules between effects and the robot, with the clock passed in.
 
 robot_rules (head only while enabled, retries, following), following (where to look for a
-person or a hand), face_finder, face_cascades, face_choice and camera_watch (a face in the head
-camera, from 24 pixels wide),
-navigator_buttons (Baxter's buttons as face commands).
+person or a hand), face_finder, face_networks (MTCNN), face_cascades (Haar), face_choice and
+camera_watch (a face in the head camera, from 24 pixels wide),
+navigator_buttons (Baxter's buttons as face commands), rehearsal (a recorded trace or camera
+images in place of the sensors: `--follow-from`).
 """
 
 from typing import Any

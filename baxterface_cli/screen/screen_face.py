@@ -9,7 +9,6 @@ sound is kept by key for them to fetch.
 
 from __future__ import annotations
 
-import io
 import threading
 import time
 from collections import OrderedDict
@@ -20,9 +19,8 @@ from ..engine.live_face import LiveFace
 from ..engine.timeline import Timeline
 from ..language.parser import parse
 from ..language.syntax_tree import Script
-from ..speech.soundtrack import write_wav
 from ..speech.synthesis import Utterance
-from ..studio.preview import sound_key
+from ..web.sounds import sound_key, wav_file
 
 KEPT_SOUNDS = 32  # utterances whose sound a page may still ask for
 
@@ -113,6 +111,4 @@ class ScreenFace:
             utterance = self._sounds.get(key)
         if utterance is None:
             return None
-        wav = io.BytesIO()
-        write_wav(wav, utterance.samples, utterance.sample_rate)
-        return wav.getvalue()
+        return wav_file(utterance)

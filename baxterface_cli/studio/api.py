@@ -1,7 +1,7 @@
 """The studio's HTTP API and WebSocket over a `Workspace`: one method a route.
 
 The routes every face page has (the page, commands, the frame, sounds, the
-live WebSocket) are face_api.py's, shared with the screen; these are the
+live WebSocket) are web/face_api.py's, shared with the screen; these are the
 studio's own: the editor's checks and saves, the transport, the session, the
 robot switch. Imported only once the `studio` extra is known to be there.
 """
@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import json
 import re
+from pathlib import Path
 from typing import Any, Dict, List, Optional
 
 from starlette.concurrency import run_in_threadpool
@@ -19,12 +20,14 @@ from starlette.routing import Route
 
 from ..drawing.renderer import Renderer
 from ..language.diagnostics import ScriptError
-from .face_api import BadRequest, FaceApi, Heavy, answered, body_bytes, body_json
-from .guard import Guard
-from .pump import log
+from ..web.face_api import BadRequest, FaceApi, Heavy, answered, body_bytes, body_json
+from ..web.guard import Guard
+from ..web.server import logger
 from .workspace import SaveConflict, TooLargeToSave, TooManySessions, Workspace
 
+STATIC = Path(__file__).resolve().parent / "static"
 TRANSPORT_ACTIONS = ("play", "pause", "seek", "loop")
+log = logger("studio")
 
 
 def create_app(
@@ -35,6 +38,9 @@ def create_app(
 
 
 class StudioApi(FaceApi):
+    page = STATIC / "index.html"
+    own_static = STATIC  # the editor, the studio's script and style, at /static as ever
+
     def __init__(self, workspace: Workspace, renderer: Renderer, fps: float) -> None:
         super().__init__(workspace, renderer, fps, log, watch=self._disk_changes)
         self.workspace = workspace

@@ -9,7 +9,6 @@ waiting.
 
 from __future__ import annotations
 
-import hashlib
 import math
 from typing import Dict, List, Optional, Tuple
 
@@ -22,18 +21,11 @@ from ..language.parser import parse
 from ..language.syntax_tree import Script
 from ..speech.recordings import Recordings
 from ..speech.synthesis import Utterance
+from ..web.sounds import sound_key
 from .session import Pending, Session
 
 SCRIPT = "script"
 SESSION = "session"
-
-
-def sound_key(utterance: Utterance) -> str:
-    """A name for an utterance's sound that the page can ask for: the same words, voice and rate, one
-    key; the same recording (by content), one key."""
-    recording = utterance.recording.digest if utterance.recording is not None else ""
-    said = f"{utterance.voice}\n{utterance.rate}\n{utterance.text}\n{recording}".encode()
-    return hashlib.sha1(said).hexdigest()[:16]
 
 
 class Transport:

@@ -11,7 +11,6 @@ names a path.
 
 from __future__ import annotations
 
-import io
 import os
 import stat
 import threading
@@ -32,9 +31,10 @@ from ..language.syntax_tree import Say, Script
 from ..language.vocabulary import BARE_WORDS
 from ..speech import phones_heard
 from ..speech.recordings import NO_POCKETSPHINX, RecordingError, Recordings
-from ..speech.soundtrack import write_wav
+from ..web.answers import diagnostics_json, problem
+from ..web.sounds import sound_key, wav_file
 from .panel import Button, PanelError, load_panel
-from .preview import Preview, sound_key
+from .preview import Preview
 from .robot_switch import RobotSwitch
 from .session import Stale
 
@@ -56,13 +56,6 @@ def _write_keeping_mode(path: Path, data: bytes) -> None:
     except BaseException:
         partial.discard()
         raise
-
-
-def diagnostics_json(diagnostics: List[Diagnostic]) -> List[Dict[str, Any]]:
-    return [
-        {"line": d.line, "column": d.column, "severity": d.severity, "message": d.message}
-        for d in diagnostics
-    ]
 
 
 def check_text(
@@ -208,13 +201,13 @@ class Workspace:
                 self.text = text
             return {"diagnostics": diagnostics_json(unsaid) + diagnostics, "timeline": self.timeline()}
         if english and not phones_heard.available():  # the rougher mouth: say so
-            diagnostics.append({"line": 0, "column": 0, "severity": "warning", "message": NO_POCKETSPHINX})
+            diagnostics.append(problem(NO_POCKETSPHINX, "warning"))
         animation, note = None, self.preview_note
         try:
             animation, note = self.preview.prepare(script), ""
         except MissingTool as e:  # `say` with no speech engine: check is content, play is not
             note = str(e)
-            diagnostics.append({"line": 0, "column": 0, "severity": "warning", "message": str(e)})
+            diagnostics.append(problem(str(e), "warning"))
         except RecordingError as e:  # changed on disk since it was read
             diagnostics = diagnostics_json([e.diagnostic()]) + diagnostics
         with self.lock:
@@ -352,9 +345,7 @@ class Workspace:
             utterance = self.preview.utterance(key)
         if utterance is None:
             return None
-        wav = io.BytesIO()
-        write_wav(wav, utterance.samples, utterance.sample_rate)
-        return wav.getvalue()
+        return wav_file(utterance)
 
     def face(self):
         """The face to show now (an immutable FaceState)."""

@@ -430,6 +430,16 @@ def test_the_studio_refuses_other_hosts_and_other_sites(folder):
             assert studio.request("GET", path)[0] == 404
 
 
+def test_every_file_the_page_names_is_served_under_static(folder):
+    # The studio's own files and the sound player every face page shares (web/static) sit side by
+    # side at /static, where the page has always asked for them.
+    with running_studio(folder / "show.face") as studio:
+        status, page = studio.request("GET", "/")
+        named = re.findall(r'(?:src|href)="(/static/[^"]+)"', page.decode("utf-8"))
+        assert status == 200 and {"/static/app.js", "/static/sound.js", "/static/studio.css"} <= set(named)
+        assert {path: studio.request("GET", path)[0] for path in named} == {path: 200 for path in named}
+
+
 def test_off_loopback_every_request_needs_the_token(folder):
     with running_studio(folder / "show.face", "--host", "0.0.0.0") as studio:
         assert studio.token and len(studio.token) >= 20
@@ -555,7 +565,7 @@ def test_scripts_are_parsed_one_at_a_time_and_a_long_queue_is_refused():
     import asyncio
     import threading
 
-    from baxterface_cli.studio.face_api import HEAVY_WAITING, Busy, Heavy
+    from baxterface_cli.web.face_api import HEAVY_WAITING, Busy, Heavy
 
     heavy, release = Heavy(), threading.Event()
     running, most = [0], [0]

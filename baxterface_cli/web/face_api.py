@@ -13,7 +13,6 @@ from __future__ import annotations
 import asyncio
 import concurrent.futures
 import json
-import re
 import threading
 import time
 from pathlib import Path
@@ -33,12 +32,11 @@ from ..drawing.renderer import Renderer
 from ..extras import MissingTool
 from ..language.diagnostics import ScriptError, shortened
 from ..language.source import decode
+from .answers import diagnostics_json, problem
 from .guard import Guard
 from .pump import STATUS_EVERY, Frames, Pages, Pump, Shown
-from .workspace import diagnostics_json
+from .sounds import SOUND_KEY
 
-STATIC = Path(__file__).resolve().parent / "static"
-SOUND_KEY = re.compile(r"[0-9a-f]{16}")  # as `preview.sound_key` makes them
 HEAVY_WAITING = 16  # scripts waiting to be parsed before more are refused
 LOGGED = 300  # characters of an error's reason the log keeps: one line, whatever was sent
 HANDED_OVER = 30.0  # seconds a command from another thread waits to be taken
@@ -113,7 +111,8 @@ class FaceApi:
     what a page opening means (`opened`).
     """
 
-    page = STATIC / "index.html"
+    page: Path  # the page's HTML
+    own_static: Optional[Path] = None  # the page's own files, served at /static before the shared ones
 
     def __init__(
         self,
@@ -149,8 +148,13 @@ class FaceApi:
             Route("/api/frame.jpg", self.frame),
             Route("/api/sound/{key}.wav", self.sound),
             WebSocketRoute("/api/live", self.live),
-            Mount("/static", StaticFiles(directory=str(STATIC), check_dir=False), name="static"),
+            Mount("/static", self.static_files(), name="static"),
         ]
+
+    def static_files(self) -> StaticFiles:
+        """`/static`: the page's own files, then those every face page loads (static/sound.js)."""
+        own = None if self.own_static is None else str(self.own_static)
+        return StaticFiles(directory=own, packages=[(__package__, "static")], check_dir=False)
 
     def start(self) -> None:
         """In the server's loop: the pump runs, and other threads may hand commands over."""
@@ -181,13 +185,13 @@ class FaceApi:
     async def perform(self, text: str) -> Tuple[int, Dict[str, Any]]:
         """A command, as `POST /api/command` takes it: (status code, answer). Busy when too many wait."""
         if not text.strip():
-            return 400, {"diagnostics": [_problem("no command: the body is empty")]}
+            return 400, {"diagnostics": [problem("no command: the body is empty")]}
         try:
             answer = await self.heavy.run(self.take, text)
         except ScriptError as e:
             return 400, {"diagnostics": diagnostics_json(e.diagnostics)}
         except MissingTool as e:  # `say` with no speech engine here
-            return 400, {"diagnostics": [_problem(str(e))]}
+            return 400, {"diagnostics": [problem(str(e))]}
         self.pump.wake()
         self.told(answer)
         return 200, answer
@@ -348,8 +352,3 @@ def _reason(response: Any) -> str:
         return reason_of(json.loads(bytes(response.body)))
     except (ValueError, AttributeError):
         return "(no reason given)"
-
-
-def _problem(message: str) -> Dict[str, Any]:
-    """A diagnostic with no place in the text."""
-    return {"line": 0, "column": 0, "severity": "error", "message": message}

@@ -24,9 +24,9 @@ from ..core.face_state import FaceState
 from ..engine.effects import Effect, Follow, HeadPan
 from ..engine.timeline import RobotStatus
 from ..extras import need
-from ..robot.camera_watch import CameraWatch
-from ..robot.face_choice import DEFAULT_FACE_POLICY, check_face_policy
-from ..robot.robot_rules import Robot
+from .camera_watch import CameraWatch
+from .face_choice import DEFAULT_FACE_POLICY, check_face_policy
+from .robot_rules import Robot
 
 TRACE_SUFFIXES = (".jsonl", ".ndjson")
 PICTURE_SUFFIXES = (".png", ".jpg", ".jpeg", ".bmp", ".webp")

@@ -1,7 +1,8 @@
-"""Serving the studio (and the screen): a listening socket, uvicorn until Ctrl-C or SIGTERM, the address.
+"""Serving a face page, the studio's or the screen's: a listening socket, uvicorn until Ctrl-C or
+SIGTERM, the address, and the lines it logs.
 
-The application itself is api.py's (web.py's); the frame pump is pump.py's.
-Connections are kept from using up the process's files (connections.py).
+The application is a `FaceApi`'s (face_api.py; studio/api.py and screen/screen_api.py extend it);
+the frame pump is pump.py's. Connections are kept from using up the process's files (connections.py).
 """
 
 from __future__ import annotations
@@ -14,6 +15,15 @@ from .connections import Connections
 
 def _stderr(message: str) -> None:
     print(message, file=sys.stderr, flush=True)
+
+
+def logger(command: str) -> Callable[[str], None]:
+    """One line on standard error, named after the command that serves: `baxterface studio: ...`."""
+
+    def log(message: str) -> None:
+        _stderr(f"baxterface {command}: {message}")
+
+    return log
 
 
 def serve(

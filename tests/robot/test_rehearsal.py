@@ -15,7 +15,7 @@ from baxterface_cli.drawing.theme import Theme
 from baxterface_cli.engine.animation import Animation
 from baxterface_cli.engine.compiler import compile_script
 from baxterface_cli.play.player import Player
-from baxterface_cli.play.rehearsal import FollowSourceError, Rehearsal, open_source
+from baxterface_cli.robot.rehearsal import FollowSourceError, Rehearsal, open_source
 from conftest import ROOT, baxterface, needs
 from playing import FakeClock, spawn_play
 

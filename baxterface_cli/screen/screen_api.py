@@ -1,4 +1,5 @@
-"""The screen's web API: the studio's face routes over a `ScreenFace`, and `GET /api/state`.
+"""The screen's web API: the face routes every page has (web/face_api.py) over a `ScreenFace`, and
+`GET /api/state`.
 
 `/` is the screen's page (static/screen.html): the face alone, filling the
 window. Imported only once the `studio` extra is known to be there.
@@ -16,7 +17,7 @@ from starlette.routing import Mount, Route
 from starlette.staticfiles import StaticFiles
 
 from ..drawing.renderer import Renderer
-from ..studio.face_api import FaceApi, answered
+from ..web.face_api import FaceApi, answered
 from .screen_face import ScreenFace
 
 STATIC = Path(__file__).resolve().parent / "static"

@@ -12,7 +12,6 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import io
-import sys
 import threading
 import time
 from typing import Any, Callable, Dict, List, Optional, Protocol, Set
@@ -26,18 +25,6 @@ STATUS_EVERY = 0.1  # seconds between status messages to the page
 DISK_EVERY = 0.5  # seconds between looks at the script and the panel on disk
 JPEG_QUALITY = 85
 EARLY = 0.0005  # seconds a timer may wake before its time (the clock's grain) and still be on time
-
-
-def logger(command: str) -> Callable[[str], None]:
-    """One line on standard error, named after the command that serves: `baxterface studio: ...`."""
-
-    def log(message: str) -> None:
-        print(f"baxterface {command}: {message}", file=sys.stderr, flush=True)
-
-    return log
-
-
-log = logger("studio")
 
 
 class Shown(Protocol):
@@ -114,7 +101,7 @@ class Pump:
         frames: Frames,
         pages: Pages,
         fps: float,
-        log: Callable[[str], None] = log,
+        log: Callable[[str], None],
         status_every: float = STATUS_EVERY,
         watch: Optional[Callable[[], List[Dict[str, Any]]]] = None,
     ) -> None:
