@@ -5,7 +5,9 @@
 ROS 1 runs under .venv-ros (Debian's Python with rospy) against a roscore of
 its own on a free loopback port; ROS 2 under .venv (rclpy from PyPI, Fast DDS)
 on loopback (ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST) in a ROS domain of its
-own. Each half (bench/node_latency.py) measures, through baxterface's own
+own, with baxterface's ROS 2 transport (shm unless BAXTERFACE_ROS_TRANSPORT
+says default; bench_ros2_transport.py sets the two side by side). Each half
+(bench/node_latency.py) measures, through baxterface's own
 Link, the milliseconds from a command on display_chatter (`skin_3` / `skin_1`,
 which change the face at once) to the first frame received after it: first
 from a relay that answers with a frame it holds (that ROS's own floor), then

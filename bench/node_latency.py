@@ -8,12 +8,15 @@ own, as any ROS program would see the face: from a command published on
 display_chatter to the first frame received on /robot/xdisplay after it,
 first against a relay that answers each command with a frame it already holds
 (what ROS itself takes to move 1.8 MB: the floor), then against the face node
-(`baxterface node --ros N`), each a process of its own. Prints JSON.
+(`baxterface node --ros N`), each a process of its own. Prints JSON. On ROS 2,
+every process takes the transport of BAXTERFACE_ROS_TRANSPORT (transport.py);
+BAXTERFACE_BENCH_GAP is the pause in seconds after each frame (0.15).
 """
 
 from __future__ import annotations
 
 import json
+import os
 import signal
 import subprocess
 import sys
@@ -62,7 +65,10 @@ def connected(publisher, frames, who, timeout=60.0) -> None:
     time.sleep(1.0)
 
 
-def latencies(publisher, frames, count=120, gap=0.15):
+GAP = float(os.environ.get("BAXTERFACE_BENCH_GAP", "0.15"))
+
+
+def latencies(publisher, frames, count=120, gap=GAP):
     """Milliseconds from each command to the first frame that reaches us after it."""
     out = []
     for i in range(count):

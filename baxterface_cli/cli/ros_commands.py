@@ -33,6 +33,27 @@ ROS_OPT = typer.Option(
     "one this Python can import (1 if both or neither).",
 )
 
+TRANSPORT_OPT = typer.Option(
+    None,
+    "--ros-transport",
+    metavar="shm|default",
+    help="ROS 2 only: how frames travel. shm (the default): Fast DDS's shared memory sized for a "
+    "frame, beside UDP; default: ROS's own set-up. A Fast DDS profile or transports of your own "
+    "(FASTDDS_DEFAULT_PROFILES_FILE, FASTDDS_BUILTIN_TRANSPORTS) always win. See docs/ros.md.",
+)
+
+
+def _transport(command: str, version: int, given: Optional[str], ros_args: List[str] = ()) -> None:
+    """The ROS 2 transport for this process's links, or a clear exit 2 for a bad one."""
+    from ..ros import transport
+
+    try:
+        transport.ask(given)
+        if version == 2:
+            transport.requested(ros_args if command == "node" else ())
+    except transport.TransportError as e:
+        raise fail(f"baxterface {command}: {e}", 2) from None
+
 
 def _version(command: str, given: Optional[int]) -> int:
     from ..ros.connect import importable_ros
@@ -77,7 +98,9 @@ def _split_ros_args(words: List[str], version: int = 1, command: str = "send") -
     return own, ros
 
 
-def node(ctx: typer.Context, ros: Optional[int] = ROS_OPT) -> None:
+def node(
+    ctx: typer.Context, ros: Optional[int] = ROS_OPT, ros_transport: Optional[str] = TRANSPORT_OPT
+) -> None:
     """Run the face node on ROS 1 or ROS 2: the replacement for the old screen_listener.py.
 
     Takes ROS remappings and the node's parameters as arguments. For example
@@ -97,6 +120,7 @@ def node(ctx: typer.Context, ros: Optional[int] = ROS_OPT) -> None:
       camera_hfov    its field of view in DEGREES: its camera_info's, else 76
       face_policy    nearest|central|longest: nearest
       recordings     the FOLDER 'say file' may read: none (no recording is read)
+      transport      ROS 2: shm|default, as --ros-transport: shm
 
     Commands (old or new) arrive on display_chatter and take over at once;
     scripts sent to ~queue wait for what is playing. Frames go to
@@ -108,6 +132,7 @@ def node(ctx: typer.Context, ros: Optional[int] = ROS_OPT) -> None:
     words, ros_args = _split_ros_args(list(ctx.args), version, "node")
     if version == 2 and words:
         raise fail(f"baxterface node: unexpected {words[0]!r}; ROS arguments come after --ros-args", 2)
+    _transport("node", version, ros_transport, ros_args)
     _ros_ready("node", version)
     from ..ros.connect import RosUnavailable
     from ..ros.face_node import run_node
@@ -168,6 +193,7 @@ def send(
         5.0, "--timeout", metavar="SECONDS", min=0.1, help="How long to wait for the face node."
     ),
     ros: Optional[int] = ROS_OPT,
+    ros_transport: Optional[str] = TRANSPORT_OPT,
 ) -> None:
     """Send a command or script to a running face node, checked first.
 
@@ -195,6 +221,7 @@ def send(
         except ScriptError as e:
             raise fail(e.render()) from None
         what = repr(text)
+    _transport("send", version, ros_transport)
     _ros_ready("send", version)
     from ..ros.connect import RosUnavailable
     from ..ros.send import NoSubscriber, Sender, listeners
@@ -250,6 +277,7 @@ def stream(
         "on ROS 1), local (this machine's sound device; the default on ROS 2) or none.",
     ),
     ros: Optional[int] = ROS_OPT,
+    ros_transport: Optional[str] = TRANSPORT_OPT,
 ) -> None:
     """Stream a script to the robot's screen in real time, no face node needed.
 
@@ -268,6 +296,7 @@ def stream(
         raise fail(f"baxterface stream: --audio must be {AUDIO_CHOICES}, not {audio!r}", 2)
     script = script_from(script_path, inline, "stream")
     renderer_layers = fitted_theme(theme, size, "stream")
+    _transport("stream", version, ros_transport)
     _ros_ready("stream", version)
     from ..drawing.renderer import Renderer
     from ..ros.connect import RosUnavailable

@@ -11,7 +11,7 @@ from urllib.parse import parse_qs, urlsplit
 import typer
 
 from .app import fail
-from .ros_commands import ROS_OPT, _ros_ready, _split_ros_args, _version
+from .ros_commands import ROS_OPT, TRANSPORT_OPT, _ros_ready, _split_ros_args, _transport, _version
 
 STATE_TOPIC = "/baxter_face/state"  # the face node's ~state
 LARGEST_ANSWER = 8 * 1024 * 1024  # bytes: a studio's state carries its script (at most 256 KiB) and more
@@ -42,6 +42,7 @@ def state(
         10.0, "--timeout", metavar="SECONDS", min=0.1, help="How long to wait for an answer."
     ),
     ros: Optional[int] = ROS_OPT,
+    ros_transport: Optional[str] = TRANSPORT_OPT,
 ) -> None:
     """Print what the face is doing: its emotion, eyes, whether it plays and what it says.
 
@@ -55,6 +56,7 @@ def state(
     else:
         version = _version("state", ros)
         _, ros_args = _split_ros_args(list(ctx.args), version, "state")
+        _transport("state", version, ros_transport)
         _ros_ready("state", version)
         found = _from_ros(version, topic, timeout, ros_args)
     typer.echo(json.dumps(found, sort_keys=True) if as_json else readable(found))

@@ -122,5 +122,9 @@ def open_link(
 
         return RospyLink(name, args, anonymous)
     from .link_ros2 import RclpyLink
+    from .transport import TransportError
 
-    return RclpyLink(name, args, anonymous, node)
+    try:
+        return RclpyLink(name, args, anonymous, node)
+    except TransportError as e:  # BAXTERFACE_ROS_TRANSPORT, or the node's parameter: one line to show
+        raise RosUnavailable(str(e)) from None

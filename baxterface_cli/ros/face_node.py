@@ -36,12 +36,14 @@ from ..engine.intake import Intake
 from ..engine.live_face import LiveFace, sleep_face
 from ..robot.camera_watch import CameraWatch
 from ..speech.recordings import Recordings
+from .compressed import CompressedFrames
 from .connect import open_link
 from .images import image_fields, image_pixels
 from .link import CHATTER, NODE_NAME, QUEUE, STATE, Link
 from .node_settings import NodeSettings, SettingError, camera_focal, camera_info_topic, theme_layers
 from .robot_link import WARN_EVERY, connect_robot
 from .speakers import UnknownAudio, default_audio, open_speaker
+from .transport import PARAMETER, TransportError, from_ros_args
 
 STATE_EVERY = 0.1  # seconds between ~state messages while the face moves
 # The loop takes the GIL back several times a frame from threads that parse
@@ -100,6 +102,7 @@ class FaceNode:
             start=sleep_face(), idle=settings.idle, now=time.monotonic(), recordings=recordings
         )
         self.image_pub = link.publisher(settings.display_topic, "sensor_msgs/Image", latched=True, queue=1)
+        self.jpeg = CompressedFrames(link, self.image_pub.topic)  # JPEGs only while someone subscribes
         self.state_pub = link.publisher(STATE, "std_msgs/String", latched=True, queue=1)
         self.saying: Optional[Tuple[str, float]] = None  # (text, when it ends) while the face speaks
         self.camera_topic = settings.camera
@@ -208,6 +211,7 @@ class FaceNode:
             return self._run()
         finally:
             self.speaker.close()
+            self.jpeg.close()
             self.robot.camera.close()
             self.link.close("face node finished")
 
@@ -220,7 +224,8 @@ class FaceNode:
         # looks at the flag at least once a tick.
         for signum in (signal.SIGINT, signal.SIGTERM):
             signal.signal(signum, lambda *_: setattr(self, "stopping", True))
-        self.link.log("info", f"baxterface face node: listening on {self.link.resolve(CHATTER)}")
+        carried = f"; ROS 2 transport: {self.link.transport}" if self.link.transport else ""
+        self.link.log("info", f"baxterface face node: listening on {self.link.resolve(CHATTER)}{carried}")
         self.link.stay_connected(self.log.info)
         period = 1.0 / self.fps
         next_tick = time.monotonic()
@@ -242,6 +247,7 @@ class FaceNode:
             if now >= self.last_frame_at + 0.75 * period and self._publish_frame(state, now):
                 self.first_motion.shown()
             self._publish_state(state, now)
+            self.jpeg.tick(now)
             # Ticks keep their own rhythm, publishing or not, whatever woke the loop
             # between them; a late loop skips the ticks it missed rather than hurrying.
             if now >= next_tick:
@@ -275,6 +281,7 @@ class FaceNode:
             return False
         frame = self.renderer.render(state)
         self.image_pub.publish(**image_fields(frame))
+        self.jpeg.offer(frame)
         self.last_key, self.last_frame_at = key, now
         return True
 
@@ -303,6 +310,11 @@ class FaceNode:
 
 def run_node(argv: List[str], version: int = 1) -> int:
     """Run the face node on ROS `version` with the command line's ROS arguments `argv`."""
+    if version == 2:
+        try:
+            from_ros_args(argv)  # read again as the link joins; a bad one is a bad parameter
+        except TransportError as e:
+            raise SettingError(PARAMETER, e.problem) from None
     link = open_link(version, NODE_NAME, argv, node=True)
     try:
         node = FaceNode(link)

@@ -88,6 +88,7 @@ class Link:
 
     version: int
     name: str  # the node's full name, "/baxter_face"
+    transport = ""  # ROS 2: how frames travel, in words for the log (transport.py)
 
     def resolve(self, topic: str) -> str:
         """A topic's full name, remappings applied ("~state" -> "/baxter_face/state")."""

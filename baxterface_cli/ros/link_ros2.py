@@ -10,6 +10,8 @@ not installed (Baxter's own, on most ROS 2 machines) is one `has` says no to.
 Images go out and come in as CDR bytes written and read by images.py (a
 subscriber gets an object with the Image's fields, `data` a memoryview): rclpy's
 own conversion of a frame's 1.8 MB costs more than the rest of the trip.
+The transport (Fast DDS's shared memory sized for a frame, or ROS's own) is
+set up before the node joins: transport.py.
 """
 
 from __future__ import annotations
@@ -24,6 +26,7 @@ from typing import Any, Callable, Dict, List
 
 from .images import image_cdr, image_from_cdr
 from .link import Link, Publisher, Subscription
+from .transport import environment
 
 IMAGE = "sensor_msgs/Image"
 
@@ -102,17 +105,20 @@ class RclpyLink(Link):
 
         self.rclpy = rclpy
         self.context = Context()
-        # Signals stay the program's own: the face node ends at its next frame on SIGTERM.
-        rclpy.init(args=argv, context=self.context, signal_handler_options=SignalHandlerOptions.NO)
         if anonymous:  # ROS 2 has no anonymous names: a unique suffix, as ROS 1's
             name = f"{name}_{os.getpid()}_{uuid.uuid4().hex[:8]}"
-        self.node = rclpy.create_node(
-            name,
-            context=self.context,
-            allow_undeclared_parameters=True,
-            automatically_declare_parameters_from_overrides=True,
-            start_parameter_services=serve_parameters,
-        )
+        # rcl reads the discovery range at init, Fast DDS its profile when the node's participant is
+        # made: both inside. Only the face node takes a `transport` parameter.
+        with environment(argv if serve_parameters else ()) as self.transport:
+            # Signals stay the program's own: the face node ends at its next frame on SIGTERM.
+            rclpy.init(args=argv, context=self.context, signal_handler_options=SignalHandlerOptions.NO)
+            self.node = rclpy.create_node(
+                name,
+                context=self.context,
+                allow_undeclared_parameters=True,
+                automatically_declare_parameters_from_overrides=True,
+                start_parameter_services=serve_parameters,
+            )
         self.name = self.node.get_fully_qualified_name()
         self.logger = self.node.get_logger()
         self._classes: Dict[str, Any] = {}

@@ -22,6 +22,7 @@ DOMAINS = {
     "test_docs_ros2.py": 44,
     "test_ros2_launch.py": 45,
     "test_screen_ros2.py": 46,
+    "test_ros2_transport.py": 47,
 }
 SPARE = range(60, 100)
 
@@ -48,7 +49,9 @@ def domain_for(module_file: str) -> int:
 def loopback_env(domain: int, base: Optional[Dict[str, str]] = None) -> Dict[str, str]:
     env = dict(base if base is not None else os.environ)
     env.update(ROS_DOMAIN_ID=str(domain), ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST")
-    for other in ("ROS_LOCALHOST_ONLY", "ROS_STATIC_PEERS", "FASTRTPS_DEFAULT_PROFILES_FILE"):
+    # Fast DDS as baxterface sets it up by default (transport.py: shm), whatever the caller's shell has
+    theirs = ("FASTRTPS_DEFAULT_PROFILES_FILE", "FASTDDS_DEFAULT_PROFILES_FILE", "FASTDDS_BUILTIN_TRANSPORTS")
+    for other in ("ROS_LOCALHOST_ONLY", "ROS_STATIC_PEERS", "BAXTERFACE_ROS_TRANSPORT", *theirs):
         env.pop(other, None)
     return env
 
