@@ -29,6 +29,7 @@ ARGUMENTS = [
     ),
     ("face_policy", "nearest", "which face `follow face` follows among several: nearest, central or longest"),
     ("recordings", "", "the folder `say file` reads recordings from; empty: none is read"),
+    ("transport", "shm", "how frames reach this host's peers: shm (shared memory, UDP beside it) or default"),
 ]
 
 
