@@ -1,9 +1,10 @@
 """Following, against the baselines, in one run: the head sonar (baxterface's
 follower against the original's), then the head camera (bench/follow_camera.py:
-baxterface's FaceFollower against the follower before far faces and a plain
-Haar detector on every full frame).
+baxterface's FaceFollower with MTCNN's networks against the same follower with
+OpenCV's cascades and a plain Haar detector on every full frame). Real faces by
+size, the networks beside the cascades, are bench/bench_face_sizes.py's.
 
-    python bench/bench_follow.py
+    taskset -c 0 python bench/bench_follow.py
 
 `sonar_report()` runs both on the faulty traces of tests/support/traces.py, real
 sonar's faults: 4 % of what the sensors report is spurious (a random sensor,

