@@ -18,24 +18,9 @@ import time
 from pathlib import Path
 
 from bench_hostile_studio import start
-from raw_http import ask, closed_by_server, upgrade
+from raw_http import HOSTILE_HOSTS, ask, closed_by_server, upgrade
 
 SERVERS = (("studio", ("studio",)), ("screen", ("screen",)))
-# What a page on another site sends once its name points at 127.0.0.1 (DNS rebinding), and more.
-HOSTILE_HOSTS = [
-    "127.attacker.example:{port}",
-    "127.0.0.1.nip.io:{port}",
-    "127.0.0.1.attacker.example:{port}",
-    "127.0.0.1.:{port}",
-    "127.1:{port}",
-    "127.0.0.1@evil.example:{port}",
-    "127.0.0.1@evil.example",
-    "localhost:9999",
-    "localhost",
-    "localhost:{port}:{port}",
-    "[::1",
-    "",
-]
 GOOD_HOSTS = ["127.0.0.1:{port}", "localhost:{port}", "[::1]:{port}"]
 BAD_ORIGINS = [
     "http://[",

@@ -17,20 +17,10 @@ import threading
 import time
 
 import pytest
-from raw_http import ask, closed_by_server, upgrade
+from raw_http import HOSTILE_HOSTS, ask, closed_by_server, upgrade
 
 from studio_server import running_screen
 from waiting import eventually
-
-HOSTILE_HOSTS = [
-    "127.attacker.example:{port}",
-    "127.0.0.1.nip.io:{port}",
-    "127.0.0.1.:{port}",
-    "127.1:{port}",
-    "127.0.0.1@evil.example",
-    "localhost:9999",
-    "[::1",
-]
 
 
 @pytest.fixture(scope="module")

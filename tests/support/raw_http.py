@@ -12,6 +12,27 @@ import os
 import socket
 from typing import Optional, Tuple
 
+# What a page on another site sends once its name points at 127.0.0.1, and other Hosts that are not
+# this server: each must be refused, whatever it asks, with or without a matching Origin.
+HOSTILE_HOSTS = [
+    "127.attacker.example:{port}",
+    "127.0.0.1.nip.io:{port}",
+    "127.0.0.1.attacker.example:{port}",
+    "127.0.0.1.:{port}",
+    "127.1:{port}",
+    "127.0.0.1@evil.example:{port}",
+    "127.0.0.1@evil.example",
+    "localhost:9999",  # another port: another server's pages
+    "localhost",  # a browser leaves the port out only for port 80
+    "127.0.0.1:{port}:{port}",
+    "127.000.000.001:{port}",
+    "[::1:{port}",
+    "[::1",
+    "[",
+    "LOCALHOST:{port}x",
+    "",
+]
+
 
 def ask(
     port: int, method: str, path: str, host: str, origin: Optional[str] = None, body: bytes = b""

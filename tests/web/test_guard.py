@@ -14,33 +14,13 @@ import resource
 import socket
 
 import pytest
-from raw_http import ask, closed_by_server, upgrade
+from raw_http import HOSTILE_HOSTS, ask, closed_by_server, upgrade
 
 from baxterface_cli.web.guard import Guard, authority, is_loopback
 from studio_server import running_studio
 from waiting import eventually
 
 SCRIPT = "happy\nlook left in 1s\n"
-# What a page on another site sends once its name points at 127.0.0.1, and other Hosts that are not
-# this studio: each must be refused, whatever it asks, with or without a matching Origin.
-HOSTILE_HOSTS = [
-    "127.attacker.example:{port}",
-    "127.0.0.1.nip.io:{port}",
-    "127.0.0.1.attacker.example:{port}",
-    "127.0.0.1.:{port}",
-    "127.1:{port}",
-    "127.0.0.1@evil.example:{port}",
-    "127.0.0.1@evil.example",
-    "localhost:9999",  # another port: another server's pages
-    "localhost",  # a browser leaves the port out only for port 80
-    "127.0.0.1:{port}:{port}",
-    "127.000.000.001:{port}",
-    "[::1:{port}",
-    "[::1",
-    "[",
-    "LOCALHOST:{port}x",
-    "",
-]
 GOOD_HOSTS = ["127.0.0.1:{port}", "localhost:{port}", "[::1]:{port}", "127.0.0.2:{port}", "LocalHost:{port}"]
 BAD_ORIGINS = [
     "http://[",
