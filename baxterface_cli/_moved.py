@@ -11,12 +11,13 @@ import importlib
 import importlib.abc
 import importlib.util
 import sys
+import types
 import warnings
-from typing import Any, Optional
+from typing import Any, Optional, Tuple
 
 # old name -> new name, both under baxterface_cli
 MOVED = {
-    "tables": "core.tables",
+    "tables": "core.face_constants",
     "geometry": "core.geometry",
     "easing": "core.easing",
     "state": "core.face_state",
@@ -32,19 +33,18 @@ MOVED = {
     "soundtrack": "speech.soundtrack",
     "audio": "speech.sound_device",
     "effects": "engine.effects",
-    "timeline": "engine.compiler",  # which also holds Timeline and the rest of the old module
     "idle": "engine.animation",
     "live": "engine.live_face",
     "explanation": "engine.explanation",
-    "intake": "engine.intake",
-    "backlog": "engine.backlog",
+    "intake": "engine.command_intake",
+    "backlog": "engine.log_backlog",
     "artwork": "drawing.artwork",
     "theme": "drawing.theme",
     "compositing": "drawing.compositing",
     "renderer": "drawing.renderer",
     "face": "drawing.face",
     "following": "robot.following",
-    "faces": "robot.face_finder",
+    "faces": "robot.person_finder",
     "camera": "robot.camera_watch",
     "buttons": "robot.navigator_buttons",
     "playback": "play.player",
@@ -59,23 +59,70 @@ MOVED = {
     "rendering": "export.render_to_file",
     # what every face page shares, out of the studio into a room beneath it and the screen
     "studio.face_api": "web.face_api",
-    "studio.pump": "web.pump",
-    "studio.guard": "web.guard",
+    "studio.pump": "web.frame_pump",
+    "studio.guard": "web.request_guard",
     "studio.server": "web.server",
     "studio.connections": "web.connections",
     "screen.web": "screen.screen_api",
+    # a person's face, seen by the head camera, named apart from the robot's own face
+    "robot.face_finder": "robot.person_finder",
+    "robot.face_choice": "robot.person_choice",
+    "robot.face_cascades": "robot.haar_detector",
+    "robot.face_networks": "robot.mtcnn_detector",
+    # modules named for what they hold
+    "ros.wire": "ros.effect_messages",
+    "web.pump": "web.frame_pump",
+    "web.guard": "web.request_guard",
+    "engine.intake": "engine.command_intake",
+    "engine.backlog": "engine.log_backlog",
+    "engine.first_motion": "engine.change_polling",
+    "drawing.kept_arrays": "drawing.array_cache",
+    "core.tables": "core.face_constants",
 }
+
+
+# Old modules split in two: their names are read from each new module in turn.
+SPLIT = {
+    # the timeline itself (Timeline, Track, Said, state_record, ...) and what compiles a script into it
+    "timeline": ("engine.timeline", "engine.compiler"),
+}
+
+
+class _SplitModule(types.ModuleType):
+    """An old module whose names now live in several: each read from the first that has it."""
+
+    def __init__(self, name: str, parts: Tuple[str, ...]) -> None:
+        super().__init__(name)
+        self._parts = parts
+
+    def __getattr__(self, name: str) -> Any:
+        if name.startswith("__"):
+            raise AttributeError(name)
+        for part in self._parts:
+            module = importlib.import_module(part)
+            if hasattr(module, name):
+                return getattr(module, name)
+        raise AttributeError(f"module {self.__name__!r} has no attribute {name!r}")
 
 
 class _OldPaths(importlib.abc.MetaPathFinder, importlib.abc.Loader):
     def find_spec(self, fullname: str, path: Any, target: Any = None) -> Optional[Any]:
         package, _, old = fullname.partition(".")
-        if package != __package__ or old not in MOVED:
+        if package != __package__ or (old not in MOVED and old not in SPLIT):
             return None
         return importlib.util.spec_from_loader(fullname, self)
 
     def create_module(self, spec: Any) -> Any:
-        new = f"{__package__}.{MOVED[spec.name.partition('.')[2]]}"
+        old = spec.name.partition(".")[2]
+        if old in SPLIT:
+            parts = tuple(f"{__package__}.{part}" for part in SPLIT[old])
+            warnings.warn(
+                f"{spec.name} is now {' and '.join(parts)}; the old name goes in the next release",
+                DeprecationWarning,
+                stacklevel=2,
+            )
+            return _SplitModule(spec.name, parts)
+        new = f"{__package__}.{MOVED[old]}"
         warnings.warn(
             f"{spec.name} is now {new}; the old name goes in the next release",
             DeprecationWarning,

@@ -19,7 +19,7 @@ import tempfile
 import time
 
 from baxterface_cli import ScriptError, parse
-from baxterface_cli.core.tables import LIMITS
+from baxterface_cli.core.face_constants import LIMITS
 
 BASELINE = ("valid: 'look 40 -20 in 0.05s' lines", "look 40 -20 in 0.05s\n")
 INPUTS = [

@@ -40,7 +40,7 @@ import cv2  # noqa: E402
 
 import face_streams as fs  # noqa: E402
 import far_streams as far  # noqa: E402
-from baxterface_cli.robot.face_finder import FaceFollower  # noqa: E402
+from baxterface_cli.robot.person_finder import FaceFollower  # noqa: E402
 
 DETECTORS = ("cnn", "cascades")
 SETTLE = 0.5

@@ -59,7 +59,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests" / "support"))
 
-from baxterface_cli.core.tables import LIMITS  # noqa: E402
+from baxterface_cli.core.face_constants import LIMITS  # noqa: E402
 from studio_server import URL_LINE  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent

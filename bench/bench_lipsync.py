@@ -129,7 +129,7 @@ def shapes(track, duration):
 
 def measure(truth, track):
     """(boundary distances in frames, right frames, frames, pauses at rest, pauses)."""
-    from baxterface_cli.core.tables import REST
+    from baxterface_cli.core.face_constants import REST
     from baxterface_cli.speech.visemes import mouth_track, shape_at
 
     expected = mouth_track(truth)

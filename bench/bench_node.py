@@ -34,8 +34,8 @@ from pathlib import Path
 
 from ros_master import start_roscore
 
+from baxterface_cli.core.face_constants import LIMITS
 from baxterface_cli.core.presets import expression_of
-from baxterface_cli.core.tables import LIMITS
 from baxterface_cli.drawing.pose import pose
 from baxterface_cli.drawing.theme import Theme
 from baxterface_cli.engine.animation import Animation

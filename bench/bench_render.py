@@ -20,7 +20,7 @@ import numpy as np
 from PIL import Image
 
 from baxterface_cli import FaceState, Parts
-from baxterface_cli.core.tables import EMOTIONS
+from baxterface_cli.core.face_constants import EMOTIONS
 from baxterface_cli.drawing.pose import pose
 from baxterface_cli.drawing.renderer import Renderer
 from baxterface_cli.drawing.theme import Theme

@@ -64,8 +64,8 @@ class Heard:
     def __init__(self, rospy) -> None:
         from sensor_msgs.msg import Image
 
+        from baxterface_cli.ros.effect_messages import SOUND_PLAY_FILE
         from baxterface_cli.ros.messages import message_class
-        from baxterface_cli.ros.wire import SOUND_PLAY_FILE
 
         self.frames, self.sounds = [], []
         self.changed = threading.Event()

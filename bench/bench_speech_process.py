@@ -49,9 +49,9 @@ def timed(say: Callable[[str], object], tag: str) -> List[float]:
 
 def in_process(text: str) -> object:
     """The engine's work before: libespeak-ng here, then the same trimming and timing."""
-    spoken = espeak.synthesize(espeak._library()[0], text, "en", 175)
+    spoken = espeak.synthesize(espeak.espeak_library()[0], text, "en", 175)
     samples = np.frombuffer(spoken.pcm, dtype=np.int16)
-    return _utterance(text, "en", 175, samples, espeak._library()[1], spoken.heard)
+    return _utterance(text, "en", 175, samples, espeak.espeak_library()[1], spoken.heard)
 
 
 def program(text: str) -> object:
@@ -60,7 +60,7 @@ def program(text: str) -> object:
 
 COLD = {
     "in this process": "from baxterface_cli.speech import espeak; "
-    "espeak.synthesize(espeak._library()[0], 'Hello there.', 'en', 175)",
+    "espeak.synthesize(espeak.espeak_library()[0], 'Hello there.', 'en', 175)",
     "through the child": "from baxterface_cli.speech.synthesis import engine; engine().say('Hello there.')",
 }
 IMPORTS = "import baxterface_cli.speech.synthesis"

@@ -42,7 +42,7 @@ import numpy as np  # noqa: E402
 
 import face_streams as fs  # noqa: E402
 import far_streams as far  # noqa: E402
-from baxterface_cli.robot.face_finder import FaceFollower, eye_target  # noqa: E402
+from baxterface_cli.robot.person_finder import FaceFollower, eye_target  # noqa: E402
 
 Target = Optional[Tuple[float, float]]
 FOLLOWERS: Dict[str, Callable[[], Callable[..., Target]]] = {}

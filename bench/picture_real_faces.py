@@ -25,8 +25,8 @@ import cv2  # noqa: E402
 import numpy as np  # noqa: E402
 
 import face_streams as fs  # noqa: E402
-from baxterface_cli.robot.face_cascades import Box  # noqa: E402
-from baxterface_cli.robot.face_networks import Networks, plan  # noqa: E402
+from baxterface_cli.robot.haar_detector import Box  # noqa: E402
+from baxterface_cli.robot.mtcnn_detector import Networks, plan  # noqa: E402
 
 FACES = [("astronaut", 90, 110, 0), ("lfw21", 230, 260, 15), ("lfw47", 330, 120, 0),
          ("lfw0", 430, 300, -15), ("lfw82", 520, 150, 0), ("lfw15", 590, 330, 0)]  # fmt: skip

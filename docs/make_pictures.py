@@ -21,8 +21,8 @@ import numpy as np
 from PIL import Image, ImageDraw, ImageFont
 
 from baxterface_cli import Face, parse
+from baxterface_cli.core.face_constants import EMOTIONS, REST, viseme_mouth
 from baxterface_cli.core.presets import mood_weights
-from baxterface_cli.core.tables import EMOTIONS, REST, viseme_mouth
 from baxterface_cli.drawing.renderer import Renderer
 from baxterface_cli.drawing.theme import Theme
 from baxterface_cli.engine.animation import Animation
@@ -475,8 +475,8 @@ def face_following(times=(1.5, 3.2, 5.0, 6.6), scene="combined") -> Image.Image:
     sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests" / "support"))
     import face_streams
     import far_streams
-    from baxterface_cli.robot.face_finder import BAXTER_HEAD_CAMERA_HFOV
     from baxterface_cli.robot.following import DEGREES_PER_RADIAN, PIXELS_PER_ELEVATION
+    from baxterface_cli.robot.person_finder import BAXTER_HEAD_CAMERA_HFOV
     from baxterface_cli.robot.rehearsal import Rehearsal
 
     stream = getattr(face_streams, scene, None) or getattr(far_streams, scene)

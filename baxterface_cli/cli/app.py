@@ -111,7 +111,7 @@ def fitted_theme(theme: Optional[str], size: Optional[str], command: str):
     from ..drawing.theme import ThemeError, resolve
 
     try:
-        return resolve(theme).layers(_size(size) or (1024, 600))
+        return resolve(theme).layers(parse_size_option(size) or (1024, 600))
     except ThemeError as e:
         raise fail(f"baxterface {command}: {e}") from None
 
@@ -170,7 +170,7 @@ def following_from(path: Optional[str], animation, command: str, say, face_polic
     `say` takes a warning line; a file that cannot be used is a clear exit 1.
     """
     if face_policy is not None:
-        from ..robot.face_choice import FACE_POLICIES, FACE_POLICY_CHOICES
+        from ..robot.person_choice import FACE_POLICIES, FACE_POLICY_CHOICES
 
         if face_policy not in FACE_POLICIES:
             raise typer.BadParameter(
@@ -182,14 +182,14 @@ def following_from(path: Optional[str], animation, command: str, say, face_polic
             )
     if path is None:
         return None
-    from ..engine.effects import Follow
+    from ..engine.effects import SetFollowing
     from ..robot.rehearsal import FollowSourceError, Rehearsal, open_source
 
     try:
         source = open_source(path)
     except (MissingTool, FollowSourceError) as e:
         raise fail(f"baxterface {command}: {e}") from None
-    if not any(isinstance(cue.effect, Follow) for cue in animation.timeline.cues):
+    if not any(isinstance(cue.effect, SetFollowing) for cue in animation.timeline.cues):
         say(f"baxterface {command}: the script follows nothing, so --follow-from changes nothing")
     warn = lambda message: say(f"baxterface {command}: {message}")  # noqa: E731
     return Rehearsal(source, warn) if face_policy is None else Rehearsal(source, warn, face_policy)
@@ -198,8 +198,12 @@ def following_from(path: Optional[str], animation, command: str, say, face_polic
 def animation_for(script: Script, seed: Optional[int], idle: bool, crossfade: Optional[float]):
     from ..engine.animation import Animation
     from ..engine.compiler import compile_script
+    from ..engine.session_program import not_here
     from ..speech.recordings import RecordingError
 
+    refused = not_here(script, "this command")  # render, play and explain run it: events_option.py
+    if refused is not None:
+        raise fail(refused.summary())
     try:
         timeline = compile_script(script, seed, crossfade=crossfade, recordings=recordings_of(script))
     except MissingTool as e:  # `say` without a speech engine, `say file` without PyAV
@@ -209,7 +213,7 @@ def animation_for(script: Script, seed: Optional[int], idle: bool, crossfade: Op
     return Animation(timeline, idle=idle, seed=seed)
 
 
-def _size(text: Optional[str]) -> Optional[tuple]:
+def parse_size_option(text: Optional[str]) -> Optional[tuple]:
     from ..drawing.theme_manifest import parse_size
 
     if text is None:

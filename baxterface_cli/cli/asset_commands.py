@@ -7,8 +7,8 @@ from typing import Optional
 import typer
 
 from .app import (
-    _size,
     fail,
+    parse_size_option,
 )
 
 
@@ -51,7 +51,7 @@ def theme_export(
 
     try:
         source = Theme.load(theme) if theme else Theme.default()
-        written = source.export(folder, _size(size), force=force)
+        written = source.export(folder, parse_size_option(size), force=force)
     except ThemeError as e:
         typer.echo(f"baxterface: {e}", err=True)
         raise typer.Exit(1) from None

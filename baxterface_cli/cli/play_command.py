@@ -27,6 +27,7 @@ from .app import (
     load_script,
     script_from,
 )
+from .events_option import DURATION_OPT, EVENTS_OPT, handlers_need_events, reacting_animation
 
 
 def play(
@@ -49,20 +50,27 @@ def play(
     crossfade: Optional[float] = CROSSFADE_OPT,
     follow_from: Optional[str] = FOLLOW_FROM_OPT,
     face_policy: Optional[str] = FACE_POLICY_OPT,
+    events: Optional[str] = EVENTS_OPT,
+    duration: Optional[float] = DURATION_OPT,
 ) -> None:
     """Play a script in real time: in a window, or in this terminal.
 
     The status line shows what only the robot could: head pan, enable,
     following. A script that says something speaks through this machine's
     sound device, in step with the picture. A script that follows someone
-    follows them in FILE with --follow-from. Ctrl-C stops.
+    follows them in FILE with --follow-from. A script with handlers meets the events of
+    --events FILE at their times (the window raises none of its own yet). Ctrl-C stops.
     """
     from ..drawing.renderer import Renderer
+    from ..engine.session_run import reactive
     from ..play.player import Player, TerminalScreen, WindowScreen, window_available
 
     if watch and (script_path in (None, "-") or inline is not None):
         raise fail("baxterface play: --watch needs a SCRIPT file", 2)
     script = script_from(script_path, inline, "play")
+    handlers_need_events(script, events, "play")
+    if watch and (events is not None or reactive(script)):
+        raise fail("baxterface play: --watch plays scripts that do not react, for now", 2)
     why_not = window_available()
     if window is None:
         window = why_not is None
@@ -74,7 +82,7 @@ def play(
             "use 'baxterface render SCRIPT --out show.gif' to make a file instead"
         )
     renderer = Renderer(fitted_theme(theme, size, "play"))
-    animation = animation_for(script, seed, idle, crossfade)
+    animation, _ = reacting_animation(script, events, seed, idle, crossfade, duration, "play")
     held: List[str] = []  # a terminal's face would cover the line; it is said when the face is gone
 
     def say(line: str) -> None:

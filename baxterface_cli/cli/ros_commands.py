@@ -43,7 +43,7 @@ TRANSPORT_OPT = typer.Option(
 )
 
 
-def _transport(command: str, version: int, given: Optional[str], ros_args: List[str] = ()) -> None:
+def check_transport(command: str, version: int, given: Optional[str], ros_args: List[str] = ()) -> None:
     """The ROS 2 transport for this process's links, or a clear exit 2 for a bad one."""
     from ..ros import transport
 
@@ -55,7 +55,7 @@ def _transport(command: str, version: int, given: Optional[str], ros_args: List[
         raise fail(f"baxterface {command}: {e}", 2) from None
 
 
-def _version(command: str, given: Optional[int]) -> int:
+def chosen_ros_version(command: str, given: Optional[int]) -> int:
     from ..ros.connect import importable_ros
     from ..ros.link import RosVersionError, ros_version
 
@@ -67,7 +67,7 @@ def _version(command: str, given: Optional[int]) -> int:
         raise fail(f"baxterface {command}: {e}", 2) from None
 
 
-def _ros_ready(command: str, version: int = 1) -> None:
+def ros_ready(command: str, version: int = 1) -> None:
     """ROS importable and (ROS 1) its master reachable, or a clear exit 1."""
     from ..ros.connect import RosUnavailable, require_master, require_ros
 
@@ -79,7 +79,7 @@ def _ros_ready(command: str, version: int = 1) -> None:
         raise fail(f"baxterface {command}: {e}") from None
 
 
-def _split_ros_args(words: List[str], version: int = 1, command: str = "send") -> tuple:
+def split_ros_args(words: List[str], version: int = 1, command: str = "send") -> tuple:
     """The command's own words apart from its ROS arguments: on ROS 1 each `name:=value`
     (remappings, `_private` parameters), on ROS 2 everything from `--ros-args` on."""
     if version == 1:
@@ -128,12 +128,12 @@ def node(
     this machine's sound device (ROS 2), what the face is doing to ~state
     (JSON; 'baxterface state' reads it). See docs/ros.md.
     """
-    version = _version("node", ros)
-    words, ros_args = _split_ros_args(list(ctx.args), version, "node")
+    version = chosen_ros_version("node", ros)
+    words, ros_args = split_ros_args(list(ctx.args), version, "node")
     if version == 2 and words:
         raise fail(f"baxterface node: unexpected {words[0]!r}; ROS arguments come after --ros-args", 2)
-    _transport("node", version, ros_transport, ros_args)
-    _ros_ready("node", version)
+    check_transport("node", version, ros_transport, ros_args)
+    ros_ready("node", version)
     from ..ros.connect import RosUnavailable
     from ..ros.face_node import run_node
     from ..ros.node_settings import SettingError
@@ -166,7 +166,7 @@ def buttons(
         button_map = ButtonMap.load(mapping)
     except MappingError as e:
         raise fail(f"baxterface buttons: {e}") from None
-    _ros_ready("buttons")
+    ros_ready("buttons")
     from ..ros.buttons import run_buttons
 
     raise typer.Exit(run_buttons(button_map, ["baxterface_buttons", *ctx.args]))
@@ -203,8 +203,8 @@ def send(
     their line number and skipped, and the exit status is 1 if there were any.
     What was sent is printed on standard output, problems on standard error.
     """
-    version = _version("send", ros)
-    text_words, ros_args = _split_ros_args(list(words or []) + list(ctx.args), version)
+    version = chosen_ros_version("send", ros)
+    text_words, ros_args = split_ros_args(list(words or []) + list(ctx.args), version)
     if sum([file is not None, bool(text_words), stdin]) > 1:
         raise fail("baxterface send: give one of COMMAND, -f FILE or --stdin", 2)
     if file is None and not text_words and not stdin:
@@ -221,8 +221,8 @@ def send(
         except ScriptError as e:
             raise fail(e.render()) from None
         what = repr(text)
-    _transport("send", version, ros_transport)
-    _ros_ready("send", version)
+    check_transport("send", version, ros_transport)
+    ros_ready("send", version)
     from ..ros.connect import RosUnavailable
     from ..ros.send import NoSubscriber, Sender, listeners
 
@@ -284,11 +284,11 @@ def stream(
     Frames are drawn here and published as bgr8, with the script's head, nod
     and enable commands and its speech at their times.
     """
+    from ..ros.effect_messages import DISPLAY_TOPICS
     from ..ros.speakers import AUDIO_CHOICES, SPEAKERS
-    from ..ros.wire import DISPLAY_TOPICS
 
-    version = _version("stream", ros)
-    _, ros_args = _split_ros_args(list(ctx.args), version, "stream")
+    version = chosen_ros_version("stream", ros)
+    _, ros_args = split_ros_args(list(ctx.args), version, "stream")
 
     if robot not in DISPLAY_TOPICS:
         raise fail(f"baxterface stream: --robot must be {' or '.join(DISPLAY_TOPICS)}, not {robot!r}", 2)
@@ -296,8 +296,8 @@ def stream(
         raise fail(f"baxterface stream: --audio must be {AUDIO_CHOICES}, not {audio!r}", 2)
     script = script_from(script_path, inline, "stream")
     renderer_layers = fitted_theme(theme, size, "stream")
-    _transport("stream", version, ros_transport)
-    _ros_ready("stream", version)
+    check_transport("stream", version, ros_transport)
+    ros_ready("stream", version)
     from ..drawing.renderer import Renderer
     from ..ros.connect import RosUnavailable
     from ..ros.send import stream as stream_to

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import os
 import re
 import secrets
@@ -62,7 +63,7 @@ def screen(
     from ..drawing.renderer import Renderer
     from ..screen.screen_api import ScreenApi
     from ..screen.screen_face import ScreenFace
-    from ..web.guard import is_loopback
+    from ..web.request_guard import is_loopback
     from ..web.server import bind, logger, serve, url_for
 
     renderer = Renderer(fitted_theme(theme, size, "screen"))
@@ -72,7 +73,7 @@ def screen(
     except MissingTool as e:  # `say` without a speech engine
         raise fail(f"baxterface screen: {e}") from None
     api = ScreenApi(face, renderer, fps, logger("screen"))
-    unsubscribe = _listen(ros, topic, api) if ros is not None else None
+    listening = _listen(ros, topic, api) if ros is not None else contextlib.nullcontext()
     token = None if is_loopback(host) else _token()
     try:
         sock = bind(host, port)
@@ -90,12 +91,9 @@ def screen(
 
             webbrowser.open(url)
 
-    try:
+    with listening:  # commands heard on ROS until the server stops
         served = api.app(token).serving("screen", host, sock.getsockname()[1])
         stopped_by = serve(served, sock, ready, stopping=api.stop_taking, log=api.log)
-    finally:
-        if unsubscribe is not None:
-            unsubscribe()
     typer.echo("baxterface screen: stopped", err=True)
     if stopped_by is not None:  # the shell's convention: 128 + the signal (130 for Ctrl-C)
         raise typer.Exit(128 + stopped_by)

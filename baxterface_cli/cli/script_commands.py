@@ -23,7 +23,6 @@ from .app import (
     SEED_HELP,
     SIZE_OPT,
     THEME_OPT,
-    animation_for,
     check_recordings,
     echo_warnings,
     fail,
@@ -32,6 +31,7 @@ from .app import (
     load_script,
     script_from,
 )
+from .events_option import DURATION_OPT, EVENTS_OPT, reacting_animation
 
 if TYPE_CHECKING:  # imported where used: `check` needs neither drawing nor playing
     from ..drawing.renderer import Renderer
@@ -84,26 +84,29 @@ def explain(
     grouped: bool = typer.Option(
         False, "--grouped", help="Statements first, then face changes, robot commands and words."
     ),
+    events: Optional[str] = EVENTS_OPT,
+    duration: Optional[float] = DURATION_OPT,
 ) -> None:
     """Explain a script's timeline: what starts and ends when.
 
     One line per statement, face change, robot command and spoken word, in
     time order (--grouped: statements, then face, robot and words). With
     --json, print one record per frame with the whole face state (skin,
-    mouth, brows, eyes, eyelids, head pan, crossfade) and the robot's status.
+    mouth, brows, eyes, eyelids, head pan, crossfade) and the robot's status. With --events,
+    the events, which handler ran when, and what each dropped or queued.
     """
     from ..engine.explanation import explained, frame_times
     from ..engine.timeline import state_record
 
     script = script_from(script_path, inline, "explain")
-    animation = animation_for(script, seed, idle, crossfade)
+    animation, log = reacting_animation(script, events, seed, idle, crossfade, duration, "explain")
     timeline = animation.timeline
     if as_json:
         for t in frame_times(timeline.duration, fps):  # the frames `render` draws
             typer.echo(json.dumps(state_record(t, animation.sample(t), timeline.status(t)), sort_keys=True))
         return
     typer.echo(f"{script.filename}: {timeline.duration:.2f} s")
-    for line in explained(timeline, grouped):
+    for line in explained(timeline, grouped, [(entry.at, entry.text) for entry in log]):
         typer.echo(line)
 
 
@@ -135,6 +138,8 @@ def render(
     ),
     follow_from: Optional[str] = FOLLOW_FROM_OPT,
     face_policy: Optional[str] = FACE_POLICY_OPT,
+    events: Optional[str] = EVENTS_OPT,
+    duration: Optional[float] = DURATION_OPT,
 ) -> None:
     """Render a script to a video, an animation, a ROS bag or image files.
 
@@ -144,12 +149,13 @@ def render(
     the last or the one at --at; PATH ending
     in '/' (or an existing folder) gets frame_00000.png, ... Files appear only
     once complete. A script that follows someone follows them in FILE with
-    --follow-from, as `play` shows it.
+    --follow-from, as `play` shows it. A script that reacts (`on face seen { ... }`) meets the
+    events of --events FILE at their times: the same script, events and seed make the same frames.
     """
     from ..drawing.renderer import Renderer
     from ..export.registry import format_for
     from ..export.sink import FormatError
-    from ..ros.wire import DISPLAY_TOPICS
+    from ..ros.effect_messages import DISPLAY_TOPICS
 
     try:
         fmt = format_for(out)
@@ -166,7 +172,8 @@ def render(
         )
     drawn = [0, 0]  # frames drawn, frames in all: what Ctrl-C reports
     try:
-        animation = animation_for(script_from(script_path, inline, "render"), seed, idle, crossfade)
+        script = script_from(script_path, inline, "render")
+        animation, _ = reacting_animation(script, events, seed, idle, crossfade, duration, "render")
         say = lambda line: typer.echo(line, err=True)  # noqa: E731
         follow = following_from(follow_from, animation, "render", say, face_policy)
         if at is not None and at > animation.duration:

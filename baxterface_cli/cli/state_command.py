@@ -11,7 +11,14 @@ from urllib.parse import parse_qs, urlsplit
 import typer
 
 from .app import fail
-from .ros_commands import ROS_OPT, TRANSPORT_OPT, _ros_ready, _split_ros_args, _transport, _version
+from .ros_commands import (
+    ROS_OPT,
+    TRANSPORT_OPT,
+    check_transport,
+    chosen_ros_version,
+    ros_ready,
+    split_ros_args,
+)
 
 STATE_TOPIC = "/baxter_face/state"  # the face node's ~state
 LARGEST_ANSWER = 8 * 1024 * 1024  # bytes: a studio's state carries its script (at most 256 KiB) and more
@@ -54,10 +61,10 @@ def state(
     if url is not None:
         found = _from_web(url, token, timeout)
     else:
-        version = _version("state", ros)
-        _, ros_args = _split_ros_args(list(ctx.args), version, "state")
-        _transport("state", version, ros_transport)
-        _ros_ready("state", version)
+        version = chosen_ros_version("state", ros)
+        _, ros_args = split_ros_args(list(ctx.args), version, "state")
+        check_transport("state", version, ros_transport)
+        ros_ready("state", version)
         found = _from_ros(version, topic, timeout, ros_args)
     typer.echo(json.dumps(found, sort_keys=True) if as_json else readable(found))
 
@@ -110,16 +117,14 @@ def _from_ros(version: int, topic: str, timeout: float, ros_args: List[str]) -> 
             came.set()
 
     try:
-        link = open_link(version, "baxterface_state", ros_args, anonymous=True)
+        link = open_link(version, "baxterface_state", ros_args, anonymous=True, leaving="read")
     except RosUnavailable as e:
         raise fail(f"baxterface state: {e}") from None
-    try:
+    with link:
         subscription = link.subscribe(topic, "std_msgs/String", take, queue=1, latched=True)
         came.wait(timeout)
         subscription.close()
         where = link.resolve(topic)
-    finally:
-        link.close("read")
     if not heard:
         raise fail(f"baxterface state: nothing on {where} within {timeout:g} s: is the face node running?")
     try:

@@ -58,7 +58,7 @@ def studio(
     from ..drawing.renderer import Renderer
     from ..studio.api import create_app, log
     from ..studio.workspace import Workspace
-    from ..web.guard import is_loopback
+    from ..web.request_guard import is_loopback
     from ..web.server import bind, serve, url_for
 
     path = Path(script_path or "studio.face")

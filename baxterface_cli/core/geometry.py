@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 from typing import Optional, Tuple
 
-from .tables import EYE_RADIUS_X, EYE_RADIUS_Y, HEAD_PAN_LIMIT
+from .face_constants import EYE_RADIUS_X, EYE_RADIUS_Y, HEAD_PAN_LIMIT
 
 
 def clamp_to_ellipse(

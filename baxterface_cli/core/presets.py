@@ -3,17 +3,27 @@
 Each legacy mouth, brow pair and skin, and each speech mouth, is a handful of numbers, found
 from the shapes they were always drawn with: at these numbers the default theme draws them
 as before. An emotion's preset is its skin, mouth and brows together; `nearest_parts` goes
-back from any expression to the closest named parts, for themes made of pictures.
+back from any expression to the closest named parts, for themes made of pictures: the named
+parts are a view of the numbers, never kept beside them.
 """
 
 from __future__ import annotations
 
 import math
-from typing import Dict, Iterable, Tuple
+from functools import lru_cache
+from typing import Any, Dict, Iterable, NamedTuple, Tuple
 
-from .expression import BROW_FIELDS, MOUTH_FIELDS, NEUTRAL, SKIN_FIELDS, Expression
-from .face_state import FaceState, Parts
-from .tables import BROWS, EMOTIONS, MOUTHS, VISEMES
+from .expression import BROW_FIELDS, MOUTH_FIELDS, NEUTRAL, SKIN_FIELDS, Expression, finite
+from .face_constants import BROWS, EMOTIONS, MOUTHS, VISEMES, viseme_mouth
+
+
+class Parts(NamedTuple):
+    """The named parts a theme of pictures shows: a picture each, swapped, not moved."""
+
+    skin: int = 2
+    mouth: str = "smile"
+    brows: str = "normal"
+
 
 # Each mouth's numbers; the fields left out are neutral.
 MOUTH_PRESETS: Dict[str, Dict[str, float]] = {
@@ -215,18 +225,23 @@ def emotion_preset(name: str, variant: int = 0) -> Expression:
     return from_parts(Parts(spec.skin, mouth, brows))
 
 
-def expression_of(state: FaceState) -> Expression:
-    """The expression a state shows: its own, or its named parts' (mid-crossfade, a morph)."""
-    if state.expression is not None:
-        return state.expression
-    now = from_parts(state.parts)
-    if state.fade_from is None or state.fade >= 1.0:
-        return now
-    return from_parts(state.fade_from).mix(now, max(0.0, state.fade))
+def expression_of(state: Any) -> Expression:
+    """The expression a `FaceState` shows: its numbers (kept for the benchmarks' sake)."""
+    return state.expression
 
 
+_MOUTH = tuple(Expression._fields.index(f) for f in MOUTH_FIELDS)
+# A speech shape's mouth, exactly as `speech_mouth` sets it: what speech shows in pictures.
+_SPEECH_MOUTHS = {
+    tuple(speech_mouth(NEUTRAL, shape)[i] for i in _MOUTH): viseme_mouth(shape) for shape in SPEECH_PRESETS
+}
+
+
+@lru_cache(maxsize=512)  # by the numbers: a theme of pictures asks for every frame's
 def nearest_parts(expression: Expression) -> Parts:
-    """The named skin, mouth and brows closest to an expression: what a theme of pictures shows."""
+    """The named skin, mouth and brows closest to an expression: what a theme of pictures shows.
+    A mouth exactly at a speech shape is that shape's picture (`speak-open`)."""
+    expression = finite(expression)  # a state anyone may build
     skin = (
         SLEEPING_SKIN if expression.sleepy >= 0.5 else min(4, max(0, int(math.floor(expression.tint + 0.5))))
     )
@@ -234,7 +249,9 @@ def nearest_parts(expression: Expression) -> Parts:
     def distance(preset: Dict[str, float], fields: Tuple[str, ...]) -> float:
         return sum((getattr(expression, f) - preset.get(f, getattr(NEUTRAL, f))) ** 2 for f in fields)
 
-    mouth = min(MOUTHS, key=lambda m: distance(MOUTH_PRESETS[m], MOUTH_FIELDS))
+    mouth = _SPEECH_MOUTHS.get(tuple(expression[i] for i in _MOUTH))
+    if mouth is None:
+        mouth = min(MOUTHS, key=lambda m: distance(MOUTH_PRESETS[m], MOUTH_FIELDS))
     brow_fields = BROW_FIELDS["left"] + BROW_FIELDS["right"]
     brows = min(BROWS, key=lambda b: distance(BROW_PRESETS[b], brow_fields))
     return Parts(skin, mouth, brows)

@@ -18,9 +18,9 @@ import numpy as np
 from PIL import Image
 
 from ..core.expression import BROW_FIELDS, Expression
+from ..core.face_constants import BROWS, MOUTHS, SKINS, VISEMES, viseme_mouth
 from ..core.face_state import Parts
 from ..core.presets import brow_heights, from_parts
-from ..core.tables import BROWS, MOUTHS, SKINS, VISEMES, viseme_mouth
 from .mouth_drawing import CENTRE_X, INK, draw_mouth_numbers
 from .vector_shapes import (
     FACE_SIZE,
@@ -255,7 +255,7 @@ def draw_mouth(size: Tuple[int, int], name: str) -> Image.Image:
     return c.image()
 
 
-# The mouth layer of each speech shape ("speak-open": "open"), in the order of tables.VISEMES.
+# The mouth layer of each speech shape ("speak-open": "open"), in the order of face_constants.VISEMES.
 SPEECH_MOUTHS: Dict[str, str] = {viseme_mouth(shape): shape for shape in VISEMES}
 
 

@@ -48,15 +48,15 @@ SKIN_STEPS = 32  # skin numbers to 1/32: colour steps too small to see
 Size = Tuple[int, int]
 
 
-class MouthKey(NamedTuple):
+class DrawnMouthKey(NamedTuple):
     numbers: Tuple[int, ...]  # MOUTH_FIELDS, in 1/STEPS
 
 
-class BrowsKey(NamedTuple):
+class DrawnBrowsKey(NamedTuple):
     numbers: Tuple[int, ...]  # both brows' fields, in 1/STEPS
 
 
-class SkinKey(NamedTuple):
+class DrawnSkinKey(NamedTuple):
     numbers: Tuple[int, ...]  # SKIN_FIELDS, in 1/SKIN_STEPS
     eyes: Tuple[int, ...] = (EYE_STEPS, EYE_STEPS)  # the eyes' sizes left to right, in 1/EYE_STEPS
 
@@ -78,9 +78,9 @@ def _expression(fields: Tuple[str, ...], numbers: Tuple[int, ...], steps: int) -
 def _keys(e: Expression) -> Parts:
     e = finite(e)
     return Parts(
-        SkinKey(_round(e, SKIN_FIELDS, SKIN_STEPS), _eye_keys(e)[2]),
-        MouthKey(_round(e, MOUTH_FIELDS, STEPS)),
-        BrowsKey(_round(e, _BROWS, STEPS)),
+        DrawnSkinKey(_round(e, SKIN_FIELDS, SKIN_STEPS), _eye_keys(e)[2]),
+        DrawnMouthKey(_round(e, MOUTH_FIELDS, STEPS)),
+        DrawnBrowsKey(_round(e, _BROWS, STEPS)),
     )
 
 

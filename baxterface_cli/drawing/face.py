@@ -17,36 +17,24 @@ from typing import List, Mapping, Optional, Tuple, Union
 import numpy as np
 from PIL import Image
 
-from ..core.expression import Expression, with_fields
+from ..core.expression import Expression
+from ..core.face_constants import BROWS, EMOTIONS, MOUTHS, SKINS
 from ..core.face_state import FaceState
 from ..core.geometry import clamp_pan, clamp_to_ellipse
-from ..core.presets import (
-    FACE_FIELDS,
-    PART_FIELDS,
-    blend,
-    blend_lids,
-    emotion_preset,
-    expression_of,
-    from_parts,
-    mood_weights,
-    nearest_parts,
-)
-from ..core.tables import BROWS, EMOTIONS, MOUTHS, SKINS
+from ..core.presets import mood_weights
+from ..engine.compiler import compile_script
+from ..language import syntax_tree as n
 from ..language.diagnostics import did_you_mean
 from .renderer import Renderer
 from .theme import Theme, resolve
 from .theme_manifest import check_size
 
 
-def emotion_state(state: FaceState, name: str, variant: int) -> FaceState:
-    """`state` showing emotion `name` with its `variant`-th (mouth, brows) pair."""
-    spec = EMOTIONS[name]
-    mouth, brows = spec.variants[variant]
-    state = state.replace(skin=spec.skin, mouth=mouth, brows=brows, eyelids=spec.eyelids, fade_from=None)
-    if state.expression is None:
-        return state
-    # Drawn from numbers already (a mood, a wink): the emotion's numbers, the winks kept.
-    return state.replace(expression=with_fields(state.expression, from_parts(state.parts), FACE_FIELDS))
+def finished(state: FaceState, *statements: n.Statement) -> FaceState:
+    """`state` as these statements leave it, run by the engine that runs scripts, with cuts for
+    crossfades: the face a script would show once they are done."""
+    timeline = compile_script(n.Script(tuple(statements)), start=state, crossfade=0.0)
+    return timeline.sample(timeline.duration)
 
 
 def emotion_variants(name: str) -> List[Tuple[str, str]]:
@@ -72,9 +60,9 @@ def _finite(value: float, what: str) -> float:
 class Face:
     """A face you set part by part and draw on demand.
 
-    Setters take effect at once (animation is the timeline engine's job);
-    `frame()` draws the current state, redrawing only what changed since the
-    last frame.
+    Setters take effect at once: an emotion, a blend or a named part is the statement a script
+    would write, run to its end by the same engine (animation is the timeline's job);
+    `frame()` draws the current state, redrawing only what changed since the last frame.
     """
 
     def __init__(
@@ -117,45 +105,37 @@ class Face:
             variant = (rng or random).randrange(len(choices))
         if not 0 <= variant < len(choices):
             raise ValueError(f"{key} has {len(choices)} variants (0 to {len(choices) - 1}), not {variant}")
-        self.state = emotion_state(self.state, key, variant)
+        self.state = finished(self.state, n.Emotion(key, variant=variant + 1))
 
     def set_skin(self, index: int) -> None:
         if isinstance(index, bool) or index not in SKINS:
             raise ValueError(f"skin must be from {min(SKINS)} to {max(SKINS)}, not {index}")
-        self._set_parts(skin=int(index))
+        self.state = finished(self.state, n.Skin(int(index)))
 
     def set_mouth(self, name: str) -> None:
-        self._set_parts(mouth=_check(name, MOUTHS, "mouth"))
+        self.state = finished(self.state, n.Mouth(_check(name, MOUTHS, "mouth")))
 
     def set_brows(self, name: str) -> None:
-        self._set_parts(brows=_check(name, BROWS, "brows"))
-
-    def _set_parts(self, **parts: object) -> None:
-        state = self.state.replace(**parts)
-        if self.state.expression is not None:  # the numbers follow the named part, the rest kept
-            fields = [f for part in parts for f in PART_FIELDS[part]]
-            shown = with_fields(self.state.expression, from_parts(state.parts), fields)
-            state = state.replace(expression=shown)
-        self.state = state
+        self.state = finished(self.state, n.Brows(_check(name, BROWS, "brows")))
 
     # -- the continuous face
 
     @property
     def expression(self) -> Expression:
         """The numbers the face is drawn from (core/expression.py), whatever set them."""
-        return expression_of(self.state)
+        return self.state.expression
 
     def set_expression(self, expression: Optional[Expression] = None, **numbers: float) -> None:
         """Draw the face from these numbers: an `Expression`, and/or fields of one by name
         (`set_expression(mouth_curve=-0.5, brow_left_angle=0.6)` changes those, keeps the rest).
-        Themes of pictures show the nearest named parts."""
+        Themes of pictures show the nearest named parts (`face.state.parts`)."""
         unknown = sorted(set(numbers) - set(Expression._fields))
         if unknown:
             raise ValueError(
                 f"unknown expression number {unknown[0]!r}{did_you_mean(unknown[0], Expression._fields)}"
             )
         shown = (expression or self.expression)._replace(**{k: _finite(v, k) for k, v in numbers.items()})
-        self.state = self.state.with_parts(nearest_parts(shown)).replace(expression=shown, fade_from=None)
+        self.state = self.state.replace(expression=shown, pictured=None, pictured_from=None, fade=1.0)
 
     def blend(self, weights: Mapping[str, float], variant: int = 0) -> None:
         """Show emotions at intensities, blended: `face.blend({"happy": 0.6, "confused": 0.4})`.
@@ -168,13 +148,10 @@ class Face:
             named.append((key, float(weight)))
         if sum(w for _, w in named) > 1.0 + 1e-9:
             raise ValueError("the weights of a blend add up to at most 1")
-        presets = [(emotion_preset(k, min(variant, len(EMOTIONS[k].variants) - 1)), w) for k, w in named]
-        shown = blend(presets)._replace(
-            lid_left=self.expression.lid_left, lid_right=self.expression.lid_right
-        )
-        label = max(named, key=lambda w: w[1])[0] if named else "default"
-        self.state = self.state.replace(eyelids=blend_lids(tuple(named)), emotion=label)
-        self.set_expression(shown)
+        if not named:
+            named = [("default", 1.0)]  # weight 0: the default face
+        variants = tuple(min(variant, len(EMOTIONS[k].variants) - 1) + 1 for k, _ in named)
+        self.state = finished(self.state, n.Feeling(tuple(named), variants=variants))  # a wink stays
 
     def set_emotion_intensity(self, name: str, intensity: float, variant: int = 0) -> None:
         """An emotion part of the way from the default face: 1 is `set_emotion`, 0 `default`."""

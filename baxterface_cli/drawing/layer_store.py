@@ -4,7 +4,7 @@ pictures.
 Reading the default theme's 28 pictures and cutting them into sprites takes about 0.6 s, the
 most of what `render` or a node does before its first frame; at a size other than its own the
 theme is drawn from its vector shapes, longer still. The fitted layers depend only on the size
-and on what the fingerprint of kept_arrays.py covers, so they are kept in the user's cache and
+and on what the fingerprint of array_cache.py covers, so they are kept in the user's cache and
 loaded back in a tenth of the time. A theme of the user's own is always read afresh.
 """
 
@@ -14,9 +14,9 @@ from typing import Callable, Dict, List, Optional, Tuple
 
 import numpy as np
 
+from .array_cache import Arrays, kept
 from .compositing import Sprite
-from .kept_arrays import Arrays, kept
-from .theme_fitting import ThemeLayers, _with_stand_ins
+from .theme_fitting import ThemeLayers, with_stand_ins
 from .theme_manifest import OPTIONAL
 
 FOLDER = "themes"
@@ -85,7 +85,7 @@ def layers_from_arrays(arrays: Arrays) -> ThemeLayers:
         lid_bands=bands,
         lid_travel=int(arrays["lid_travel"]),
         skins={int(n): s for n, s in groups["skins"].items()},
-        mouths=_with_stand_ins(groups["mouths"]),
+        mouths=with_stand_ins(groups["mouths"]),
         brows=groups["brows"],
     )
 

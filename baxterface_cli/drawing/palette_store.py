@@ -1,7 +1,7 @@
 """Palettes kept between runs: a face that starts again has its mixed skins at once.
 
 The drawn face's palettes (skin_mixing.py: the whole skin's, and each eye's for eyes of other
-sizes) take about two seconds to make; they are kept in the user's cache (kept_arrays.py) and
+sizes) take about two seconds to make; they are kept in the user's cache (array_cache.py) and
 loaded back in milliseconds.
 """
 
@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from typing import Callable, Optional, Tuple
 
-from .kept_arrays import kept
+from .array_cache import kept
 from .skin_mixing import SkinPalette
 
 FOLDER = "palettes"

@@ -21,7 +21,7 @@ from ..resources import resource
 from . import artwork
 from .drawn_parts import DrawnParts
 from .layer_store import kept_layers
-from .theme_fitting import ThemeLayers, _prepare, _resample
+from .theme_fitting import ThemeLayers, prepare_layers, resample
 from .theme_manifest import (
     MANIFEST,
     OPTIONAL,
@@ -29,14 +29,14 @@ from .theme_manifest import (
     Placed,
     Size,
     ThemeError,
-    _anchor,
-    _check_fit,
-    _is_number,
-    _layer_path,
-    _manifest_layers,
-    _manifest_size,
-    _read_image,
-    _read_manifest,
+    check_fit,
+    is_number,
+    layer_path,
+    manifest_layers,
+    manifest_size,
+    parse_anchor,
+    read_image,
+    read_manifest,
 )
 
 
@@ -96,24 +96,24 @@ class Theme:
             raise ThemeError(f"{folder}: not a theme folder ({why})")
         if not manifest_path.is_file():
             raise ThemeError(f"{manifest_path}: missing; a theme folder needs its manifest")
-        manifest = _read_manifest(manifest_path)
-        size = _manifest_size(manifest, manifest_path)
+        manifest = read_manifest(manifest_path)
+        size = manifest_size(manifest, manifest_path)
         lid_travel = manifest.get("lid_travel", artwork.LID_TRAVEL)
-        if not _is_number(lid_travel) or not 0 < lid_travel < 10_000:
+        if not is_number(lid_travel) or not 0 < lid_travel < 10_000:
             raise ThemeError(f"{manifest_path}: 'lid_travel' must be a positive number of face pixels")
         theme_name = manifest.get("name", folder.name)
         if not isinstance(theme_name, str):
             raise ThemeError(f"{manifest_path}: 'name' must be a string")
         images: Dict[Key, Placed] = {}
-        for i, entry in enumerate(_manifest_layers(manifest, manifest_path)):
+        for i, entry in enumerate(manifest_layers(manifest, manifest_path)):
             kind = entry["kind"]
             name = entry.get("name", kind)
             if (kind, name) in images:
                 raise ThemeError(f"{manifest_path}: layer {i + 1} repeats the {kind} layer named '{name}'")
-            path = _layer_path(folder, entry["file"], manifest_path)
-            anchor = _anchor(entry.get("anchor", [0, 0]), manifest_path, path)
-            image = _read_image(path)
-            _check_fit(path, kind, image.size, anchor, size)
+            path = layer_path(folder, entry["file"], manifest_path)
+            anchor = parse_anchor(entry.get("anchor", [0, 0]), manifest_path, path)
+            image = read_image(path)
+            check_fit(path, kind, image.size, anchor, size)
             images[(kind, name)] = Placed(image, anchor)
         missing = [key for key in artwork.layer_names() if key not in images and key not in OPTIONAL]
         if missing:
@@ -130,7 +130,7 @@ class Theme:
             return self.images
         if self.builtin:
             return {key: Placed(image, (0, 0)) for key, image in artwork.draw_theme(size).items()}
-        return {key: _resample(placed, key[0], self.size, size) for key, placed in self.images.items()}
+        return {key: resample(placed, key[0], self.size, size) for key, placed in self.images.items()}
 
     def layers(self, size: Size) -> ThemeLayers:
         """The theme at `size`, prepared for the renderer; the last two sizes are kept."""
@@ -138,9 +138,9 @@ class Theme:
             self._fitted.move_to_end(size)
             return self._fitted[size]
         if self.builtin:
-            fitted = kept_layers(size, lambda: _prepare(self.placed_at(size), size, self.lid_travel))
+            fitted = kept_layers(size, lambda: prepare_layers(self.placed_at(size), size, self.lid_travel))
         else:
-            fitted = _prepare(self.placed_at(size), size, self.lid_travel)
+            fitted = prepare_layers(self.placed_at(size), size, self.lid_travel)
         if self.builtin:
             drawn = DrawnParts(size, fitted.skins, fitted.mouths, fitted.brows)
             fitted = fitted._replace(skins=drawn.skins, mouths=drawn.mouths, brows=drawn.brows, drawn=drawn)
@@ -195,8 +195,8 @@ def _default_theme() -> Theme:
     """The built-in theme: its manifest read now, its pictures only when something needs them."""
     folder = resource("assets/default")
     manifest_path = folder / MANIFEST
-    manifest = _read_manifest(manifest_path)
-    size = _manifest_size(manifest, manifest_path)
+    manifest = read_manifest(manifest_path)
+    size = manifest_size(manifest, manifest_path)
     lid_travel = float(manifest.get("lid_travel", artwork.LID_TRAVEL))
     return Theme(str(manifest.get("name", folder.name)), size, lid_travel, None, builtin=True, folder=folder)
 

@@ -43,7 +43,7 @@ def face_origin(size: Size) -> Tuple[float, float]:
     return (size[0] - artwork.FACE_SIZE[0] * s) / 2.0, (size[1] - artwork.FACE_SIZE[1] * s) / 2.0
 
 
-def _resample(placed: Placed, kind: str, native: Size, size: Size) -> Placed:
+def resample(placed: Placed, kind: str, native: Size, size: Size) -> Placed:
     k = face_scale(size) / face_scale(native)
     (nx, ny), (tx, ty) = face_origin(native), face_origin(size)
     image = placed.image
@@ -80,7 +80,7 @@ def _sprite(placed: Placed, size: Size) -> Sprite:
     return sprite
 
 
-def _prepare(placed: Dict[Key, Placed], size: Size, lid_travel: float) -> ThemeLayers:
+def prepare_layers(placed: Dict[Key, Placed], size: Size, lid_travel: float) -> ThemeLayers:
     scale = face_scale(size)
     background = _full_canvas(placed[("background", "background")], size)[..., 2::-1].copy()
     eyes = split_columns(_sprite(placed[("eyes", "eyes")], size))
@@ -94,14 +94,14 @@ def _prepare(placed: Dict[Key, Placed], size: Size, lid_travel: float) -> ThemeL
         lid_bands=[alike_rows(lid) for lid in lids],
         lid_travel=int(math.floor(lid_travel * scale + 0.5)),
         skins={int(n): _sprite(p, size) for (k, n), p in placed.items() if k == "skin"},
-        mouths=_with_stand_ins({n: _sprite(p, size) for (k, n), p in placed.items() if k == "mouth"}),
+        mouths=with_stand_ins({n: _sprite(p, size) for (k, n), p in placed.items() if k == "mouth"}),
         brows={n: _sprite(p, size) for (k, n), p in placed.items() if k == "brows"},
     )
 
 
-def _with_stand_ins(mouths: Dict[str, Sprite]) -> Dict[str, Sprite]:
+def with_stand_ins(mouths: Dict[str, Sprite]) -> Dict[str, Sprite]:
     """Every mouth the renderer may be asked for: a speech mouth the theme lacks is the
-    mouth tables.VISEMES gives for it (the same sprite, shared)."""
+    mouth face_constants.VISEMES gives for it (the same sprite, shared)."""
     for (_, name), (_, other) in OPTIONAL.items():
         if name not in mouths and other in mouths:
             mouths[name] = mouths[other]

@@ -15,7 +15,7 @@ from typing import Dict, List, NamedTuple, Optional, Tuple
 
 from PIL import Image
 
-from ..core.tables import VISEMES, viseme_mouth
+from ..core.face_constants import VISEMES, viseme_mouth
 from . import artwork
 
 MANIFEST = "theme.json"
@@ -28,7 +28,7 @@ Size = Tuple[int, int]
 Key = Tuple[str, str]  # (kind, name)
 FULL_SCREEN_KINDS = ("background", "skin")
 # Layers a theme may leave out, each with the layer drawn in its place: the
-# speech mouths, which older themes lack, are drawn as the mouths tables.VISEMES names.
+# speech mouths, which older themes lack, are drawn as the mouths face_constants.VISEMES names.
 OPTIONAL: Dict[Key, Key] = {
     ("mouth", viseme_mouth(shape)): ("mouth", mouth) for shape, mouth in VISEMES.items()
 }
@@ -77,7 +77,7 @@ def size_problem(size: Size) -> Optional[str]:
     return None
 
 
-def _read_manifest(path: Path) -> dict:
+def read_manifest(path: Path) -> dict:
     def whole_number(text: str) -> int:
         # Python 3.11+ refuses ints of over 4300 digits, older ones take
         # their time: no number a theme needs is longer than this.
@@ -110,11 +110,11 @@ def _is_int(value: object) -> bool:
     return isinstance(value, int) and not isinstance(value, bool)  # JSON's true is no number
 
 
-def _is_number(value: object) -> bool:
+def is_number(value: object) -> bool:
     return _is_int(value) or isinstance(value, float)
 
 
-def _manifest_size(manifest: dict, path: Path) -> Size:
+def manifest_size(manifest: dict, path: Path) -> Size:
     size = manifest.get("size")
     if not isinstance(size, list) or len(size) != 2 or not all(_is_int(v) for v in size):
         raise ThemeError(f"{path}: 'size' must be [width, height] in pixels, like [1024, 600]")
@@ -124,7 +124,7 @@ def _manifest_size(manifest: dict, path: Path) -> Size:
     return size[0], size[1]
 
 
-def _manifest_layers(manifest: dict, path: Path) -> List[dict]:
+def manifest_layers(manifest: dict, path: Path) -> List[dict]:
     layers = manifest.get("layers")
     if not isinstance(layers, list):
         raise ThemeError(f"{path}: 'layers' must be a list of layers")
@@ -147,7 +147,7 @@ def _shown(text: str, most: int = 40) -> str:
     return repr(text if len(text) <= most else text[:most] + "...")
 
 
-def _layer_path(folder: Path, name: str, manifest_path: Path) -> Path:
+def layer_path(folder: Path, name: str, manifest_path: Path) -> Path:
     """The layer's file, which must lie inside the theme folder."""
     if "\0" in name:
         raise ThemeError(f"{manifest_path}: layer file {name!r} has a NUL character in its name")
@@ -165,13 +165,13 @@ def _layer_path(folder: Path, name: str, manifest_path: Path) -> Path:
     return folder / name
 
 
-def _anchor(value: object, manifest_path: Path, path: Path) -> Tuple[int, int]:
+def parse_anchor(value: object, manifest_path: Path, path: Path) -> Tuple[int, int]:
     if not isinstance(value, list) or len(value) != 2 or not all(_is_int(v) for v in value):
         raise ThemeError(f"{manifest_path}: the anchor of {path.name} must be [x, y] in whole pixels")
     return value[0], value[1]
 
 
-def _read_image(path: Path) -> Image.Image:
+def read_image(path: Path) -> Image.Image:
     try:
         info = path.stat()
     except OSError as e:
@@ -194,7 +194,7 @@ def _read_image(path: Path) -> Image.Image:
         raise ThemeError(f"{path}: cannot read image: {e}") from None
 
 
-def _check_fit(path: Path, kind: str, image_size: Size, anchor: Tuple[int, int], size: Size) -> None:
+def check_fit(path: Path, kind: str, image_size: Size, anchor: Tuple[int, int], size: Size) -> None:
     w, h = image_size
     if kind in FULL_SCREEN_KINDS:
         if (w, h) != size or anchor != (0, 0):

@@ -16,9 +16,9 @@ import bisect
 import random
 from typing import List, NamedTuple, Optional
 
+from ..core.face_constants import TIMING
 from ..core.face_state import FaceState
 from ..core.geometry import clamp_to_ellipse
-from ..core.tables import TIMING
 from .timeline import Timeline
 
 BLINK_EVERY = (3.0, 8.0)

@@ -1,11 +1,12 @@
 """Script -> timeline: `compile_script` walks the AST with a clock.
 
 Each statement becomes changes on the timeline's tracks (timeline.py): eyes
-(x, y), lids, head pan, the parts (skin, mouth, brows, which swap with a short
-crossfade), the emotion's name, speech (its mouth shapes over the parts'
-mouth), and cues of robot effects (see `effects`). Changes are applied in time
-order, each starting from wherever its track is at that moment, so `together`
-blocks and interrupted moves compose.
+(x, y), lids, head pan, the expression's numbers (a named skin, mouth or brows is a
+point of them, reached over a short crossfade), the emotion's name, speech (its
+mouth shapes over the face's mouth), and cues of robot effects (see `effects`).
+Changes are applied in time order, each starting from wherever its track is at
+that moment, so `together` blocks and interrupted moves compose. The named parts
+that themes of pictures show are read off the numbers afterwards (pictures.py).
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ import random
 from typing import TYPE_CHECKING, Any, Callable, Dict, List, NamedTuple, Optional, Sequence, Tuple
 
 from ..core.expression import BROW_FIELDS, CONTROLS, Expression, with_fields
+from ..core.face_constants import EMOTIONS, HEAD_SPEED_RATIO, HEAD_TOP_SPEED, TIMING, USUAL_VARIANT
 from ..core.face_state import FaceState, Parts
 from ..core.geometry import clamp_pan, clamp_to_ellipse, dynamic_look, to_radians
 from ..core.presets import (
@@ -21,19 +23,17 @@ from ..core.presets import (
     PART_FIELDS,
     blend,
     blend_lids,
-    expression_of,
     from_parts,
     mood_weights,
-    nearest_parts,
 )
-from ..core.tables import EMOTIONS, HEAD_SPEED_RATIO, HEAD_TOP_SPEED, TIMING, USUAL_VARIANT
 from ..language import syntax_tree as n
 from ..language.statements import KINDS, describe, move_seconds, statement_seconds
 from . import effects as fx
 from .effects import Cue
+from .session_program import not_here
 from .shape_tracks import ShapeTracks
 from .take_over import Carry, carry_over
-from .timeline import CROSSFADE, PartsChange, Said, Span, Speaker, Timeline, Track
+from .timeline import CROSSFADE, Said, Span, Speaker, Timeline, Track
 from .tracks import Owner
 
 if TYPE_CHECKING:
@@ -66,14 +66,12 @@ class _Compiler:
         self.recordings = recordings
         self.rng = rng
         self.crossfade = crossfade
-        self.start = start
         self.owner = Owner()  # the statement being compiled, then the one whose event is applied
         self.eyes = Track((start.eye_x, start.eye_y), self.owner)
         self.lids = Track(start.eyelids, self.owner)
         self.head = Track(start.head_pan, self.owner)
-        self.shape = ShapeTracks(expression_of(start), self.owner)
+        self.shape = ShapeTracks(start.expression, self.owner)
         self.moods: List[Tuple[float, float, float]] = []
-        self.parts: List[PartsChange] = []
         self.emotions: List[Tuple[float, str]] = []
         self.cues: List[Cue] = []
         self.spans: List[Span] = []
@@ -133,7 +131,7 @@ class _Compiler:
 
         self.later(t, lids_first)
         end = t + statement_seconds(s)
-        self.change_parts(end, skin=spec.skin, mouth=mouth, brows=brows)
+        self.change_shape(end, from_parts(Parts(spec.skin, mouth, brows)), FACE_FIELDS)
         return end
 
     def do_feeling(self, s: n.Feeling, t: float) -> float:
@@ -187,18 +185,13 @@ class _Compiler:
         duration: Optional[float] = None,
         easing: str = "linear",
     ) -> None:
-        """Morph `fields` of the expression to `target`'s; themes of pictures crossfade to the
-        named parts nearest where the morph ends."""
+        """Morph `fields` of the expression to `target`'s (a part swap by default: over the
+        crossfade); themes of pictures crossfade to the named parts nearest where it ends."""
 
         def apply(at: float) -> None:
             seconds = self.crossfade if duration is None else duration
             goal = with_fields(self.shape.value(at), target, fields)
             self.shape.move(at, seconds, goal, easing, fields)
-            ending = self.shape.value(at + seconds)
-            current = self.parts[-1].parts if self.parts else self.start.parts
-            nearest = nearest_parts(ending)
-            if nearest != current:
-                self.parts.append(PartsChange(at, nearest, seconds, self.owner.at))
 
         self.later(t, apply)
 
@@ -262,33 +255,22 @@ class _Compiler:
         self.later(t, lambda at: self.lids.move(at, duration, s.openness, s.timing.easing))
         return t + duration
 
+    # A named part is a point of the numbers: the drawn face morphs to it over the crossfade,
+    # themes of pictures crossfade to it.
+
     def do_skin(self, s: n.Skin, t: float) -> float:
-        self.change_parts(t, skin=s.index)
+        self.change_shape(t, from_parts(Parts(skin=s.index)), PART_FIELDS["skin"])
         return t
 
     def do_mouth(self, s: n.Mouth, t: float) -> float:
-        self.change_parts(t, mouth=s.name)
+        self.change_shape(t, from_parts(Parts(mouth=s.name)), PART_FIELDS["mouth"])
         return t
 
     def do_brows(self, s: n.Brows, t: float) -> float:
-        if s.side:  # one brow: a shape of numbers, which themes of pictures show as the nearest pair
-            self.change_shape(t, from_parts(Parts(brows=s.name)), BROW_FIELDS[s.side])
-        else:
-            self.change_parts(t, brows=s.name)
+        self.change_shape(
+            t, from_parts(Parts(brows=s.name)), BROW_FIELDS[s.side] if s.side else PART_FIELDS["brows"]
+        )
         return t
-
-    def change_parts(self, t: float, **changed: Any) -> None:
-        """Swap named parts (crossfaded in themes of pictures); the drawn face morphs to them."""
-
-        def apply(at: float) -> None:
-            current = self.parts[-1].parts if self.parts else self.start.parts
-            new = current._replace(**changed)
-            self.parts.append(PartsChange(at, new, self.crossfade, self.owner.at))
-            fields = [f for part in changed for f in PART_FIELDS[part]]
-            goal = with_fields(self.shape.value(at), from_parts(new), fields)
-            self.shape.move(at, self.crossfade, goal, fields=fields)
-
-        self.later(t, apply)
 
     def do_wait(self, s: n.Wait, t: float) -> float:
         return t + statement_seconds(s)
@@ -317,7 +299,7 @@ class _Compiler:
         return t
 
     def do_follow(self, s: n.Follow, t: float) -> float:
-        self.cue(t, fx.Follow(s.target, s.dynamic))
+        self.cue(t, fx.SetFollowing(s.target, s.dynamic))
         if s.target is None:  # stopping recentres the eyes, as the original did
             self.later(t, lambda at: self.eyes.move(at, TIMING.look, (0.0, 0.0)))
         return t
@@ -348,7 +330,7 @@ class _Compiler:
     def do_exit(self, s: n.Exit, t: float) -> float:
         # The sleep face, fully faded in, is the last thing shown.
         end = self.do_emotion(n.Emotion("sleep", pos=s.pos), t) + self.crossfade
-        self.cue(end, fx.Exit())
+        self.cue(end, fx.ShutDown())
         self.exit_at = end
         return end
 
@@ -392,6 +374,9 @@ def compile_script(
     give texts from elsewhere (a network) a confined one. `carry` lets the statements begun in
     a timeline this one takes over from finish what they started (a live face's commands).
     """
+    refused = not_here(script, "a timeline compiled alone (compile_script)")
+    if refused is not None:  # handlers and waits need the live session (engine/live_session.py)
+        raise refused
     if crossfade is None:
         crossfade = 0.0 if script.legacy else CROSSFADE
     compiler = _Compiler(
@@ -402,7 +387,6 @@ def compile_script(
     end = compiler.sequence(script.body, 0.0)
     compiler.run(compiler.events)
     tails = [end, compiler.eyes.end, compiler.lids.end, compiler.head.end, compiler.shape.end]
-    tails += [c.at + c.fade for c in compiler.parts]
     tails += [c.at + c.effect.duration for c in compiler.cues]
     duration = max(tails)
     if compiler.exit_at is not None:
@@ -412,7 +396,6 @@ def compile_script(
         compiler.eyes,
         compiler.lids,
         compiler.head,
-        compiler.parts,
         compiler.emotions,
         compiler.cues,
         compiler.spans,

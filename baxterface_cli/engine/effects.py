@@ -13,7 +13,7 @@ from abc import ABC, abstractmethod
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, NamedTuple, Optional
 
-from ..core.tables import TIMING, FollowTarget
+from ..core.face_constants import TIMING, FollowTarget
 from ..language.statements import quoted, radians_and_degrees
 
 if TYPE_CHECKING:  # speech needs numpy; the effects themselves do not
@@ -66,7 +66,7 @@ class SetEnabled(Effect):
 
 
 @dataclass(frozen=True)
-class Follow(Effect):
+class SetFollowing(Effect):
     """Start following `target` ("human", "face", "left arm", "right arm"); None stops.
 
     With `dynamic` the head turns too when the target is beyond the eyes' reach.
@@ -80,7 +80,7 @@ class Follow(Effect):
 
 
 @dataclass(frozen=True)
-class Exit(Effect):
+class ShutDown(Effect):
     """The script is over for good: the face node shuts down."""
 
     def visit(self, handler: EffectHandler, at: float) -> Any:
@@ -101,7 +101,24 @@ class Speech(Effect):
         return handler.speech(self, at)
 
 
-EFFECTS = (HeadPan, HeadNod, SetEnabled, Follow, Exit, Speech)
+EFFECTS = (HeadPan, HeadNod, SetEnabled, SetFollowing, ShutDown, Speech)
+
+# The effects' names before they were told apart from the statements (`Follow`, `Exit` in
+# language/syntax_tree.py) that make them: still importable, with a warning, for a release.
+_OLD_NAMES = {"Follow": "SetFollowing", "Exit": "ShutDown"}
+
+
+def __getattr__(name: str) -> Any:
+    if name not in _OLD_NAMES:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    import warnings
+
+    warnings.warn(
+        f"{__name__}.{name} is now {_OLD_NAMES[name]}; the old name goes in the next release",
+        DeprecationWarning,
+        stacklevel=2,
+    )
+    return globals()[_OLD_NAMES[name]]
 
 
 class Cue(NamedTuple):
@@ -124,10 +141,10 @@ class EffectHandler(ABC):
     def set_enabled(self, effect: SetEnabled, at: float) -> Any: ...
 
     @abstractmethod
-    def follow(self, effect: Follow, at: float) -> Any: ...
+    def follow(self, effect: SetFollowing, at: float) -> Any: ...
 
     @abstractmethod
-    def exit(self, effect: Exit, at: float) -> Any: ...
+    def exit(self, effect: ShutDown, at: float) -> Any: ...
 
     @abstractmethod
     def speech(self, effect: Speech, at: float) -> Any: ...
@@ -167,10 +184,10 @@ class StatusFold(EffectHandler):
     def set_enabled(self, effect: SetEnabled, at: float) -> None:
         self.status = self.status._replace(enabled=effect.enabled)
 
-    def follow(self, effect: Follow, at: float) -> None:
+    def follow(self, effect: SetFollowing, at: float) -> None:
         self.status = self.status._replace(following=effect.target, follow_dynamic=effect.dynamic)
 
-    def exit(self, effect: Exit, at: float) -> None:
+    def exit(self, effect: ShutDown, at: float) -> None:
         self.status = self.status._replace(exited=True)
 
     def speech(self, effect: Speech, at: float) -> None:
@@ -190,10 +207,10 @@ class EffectWords(EffectHandler):
     def set_enabled(self, effect: SetEnabled, at: float) -> str:
         return "enable" if effect.enabled else "disable"
 
-    def follow(self, effect: Follow, at: float) -> str:
+    def follow(self, effect: SetFollowing, at: float) -> str:
         return f"follow {effect.target or 'off'}" + (" dynamic" if effect.dynamic else "")
 
-    def exit(self, effect: Exit, at: float) -> str:
+    def exit(self, effect: ShutDown, at: float) -> str:
         return "exit: the face node shuts down"
 
     def speech(self, effect: Speech, at: float) -> str:

@@ -3,15 +3,14 @@ times of its frames, which `explain --json` lists and `render` draws."""
 
 from __future__ import annotations
 
-from typing import List, Tuple
+from typing import Any, List, Sequence, Tuple
 
 from .effects import EffectWords
-from .timeline import Timeline
 
-# At one instant: the face an earlier statement arrived at, the statement that starts, what it asks of
-# the robot, then the words said.
-_FACE, _STATEMENT, _ROBOT, _WORD = range(4)
-_GROUPS = {_STATEMENT: 0, _FACE: 1, _ROBOT: 2, _WORD: 3}  # --grouped: the statements first
+# At one instant: what the session did (an event, a handler that runs or drops it), the face an
+# earlier statement arrived at, the statement that starts, what it asks of the robot, the words said.
+_SESSION, _FACE, _STATEMENT, _ROBOT, _WORD = range(5)
+_GROUPS = {_STATEMENT: 0, _SESSION: 1, _FACE: 2, _ROBOT: 3, _WORD: 4}  # --grouped: the statements first
 
 
 def frame_times(duration: float, fps: float) -> List[float]:
@@ -31,10 +30,11 @@ def _row(start: float, end: float, what: str) -> str:
     return f"  {when:<19} {what}"
 
 
-def explained(timeline: Timeline, grouped: bool = False) -> List[str]:
-    """One line per statement, face change, robot cue and spoken word.
+def explained(timeline: Any, grouped: bool = False, session: Sequence[Tuple[float, str]] = ()) -> List[str]:
+    """One line per statement, face change, robot cue and spoken word (and, for a script run by
+    the live session, per line of its log: `session`, (time, what) pairs).
 
-    In time order by default; `grouped` lists the statements, then the face
+    In time order by default; `grouped` lists the statements, then the session's lines, the face
     changes, the robot cues and the words, each group in time order.
     """
     rows: List[Tuple[float, int, int, str]] = []  # (time, kind, order of appearance, line)
@@ -42,6 +42,8 @@ def explained(timeline: Timeline, grouped: bool = False) -> List[str]:
     def add(start: float, end: float, kind: int, what: str) -> None:
         rows.append((start, kind, len(rows), _row(start, end, what)))
 
+    for at, what in session:
+        add(at, at, _SESSION, f"react {what}")
     for span in timeline.spans:
         add(span.start, span.end, _STATEMENT, f"line {span.line:<4} {span.text}")
     for change in timeline.parts:

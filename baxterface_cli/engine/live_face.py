@@ -14,14 +14,15 @@ import random
 from collections import deque
 from typing import TYPE_CHECKING, Deque, List, Optional
 
+from ..core.face_constants import EMOTIONS
 from ..core.face_state import FaceState
-from ..core.tables import EMOTIONS
 from ..language.diagnostics import ScriptError
 from ..language.parser import parse
 from ..language.syntax_tree import Script
 from .animation import Idle
 from .compiler import Carry, compile_script
 from .effects import Cue, RobotStatus, StatusFold
+from .session_program import not_here
 from .timeline import Timeline
 
 if TYPE_CHECKING:
@@ -90,6 +91,9 @@ class LiveFace:
         """Compile `script` to start from `start`; safe from another thread."""
         from ..speech.recordings import RecordingError, Recordings
 
+        refused = not_here(script, "a live face (the node, the screen, the studio)")
+        if refused is not None:  # until the live ends run engine/live_session.py
+            raise refused
         if self.recordings is None:
             self.recordings = Recordings(None)
         # A recording's length is in its header, which parsing does not read: the length limit with it.

@@ -8,12 +8,12 @@ from __future__ import annotations
 
 from typing import Any, NamedTuple
 
-from .timeline import PartsChange, Timeline
+from .timeline import Timeline
 
 
 class Carry(NamedTuple):
     """What a command that takes over lets run on: the timeline it takes over from, and how far
-    into it the take-over comes. The moves and part changes of statements already begun there
+    into it the take-over comes. The moves of statements already begun there
     finish (a wink still reopens, `sad` still changes its mouth after its lids); the statements
     not yet begun are dropped."""
 
@@ -30,16 +30,3 @@ def carry_over(compiler: Any, carry: Carry) -> None:
         track.carry(before, at)
     if old.shape is not None:
         compiler.shape.carry(old.shape, at)
-    # A part swap still to come of a statement begun (an emotion's parts, after its lids), unless
-    # the new script swaps parts first: then it has taken over, as it has the numbers.
-    for change in old.parts:
-        if change.at > at and change.owner <= at:
-            compiler.later(change.at - at, _swap(compiler, change))
-
-
-def _swap(compiler: Any, change: PartsChange) -> Any:
-    def apply(when: float) -> None:
-        if not compiler.parts or compiler.parts[-1].owner < 0:  # the new script's own have owners >= 0
-            compiler.parts.append(PartsChange(when, change.parts, change.fade))
-
-    return apply

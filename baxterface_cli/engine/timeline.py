@@ -1,22 +1,23 @@
 """A timeline: tracks of timed changes, and the face state they give at any time t.
 
 The compiler (compiler.py) fills the tracks: eyes (x, y), lids, head pan, the
-expression's numbers (shape_tracks.py), the named parts that themes of pictures show, the
-emotion's name, speech and the robot cues. `Timeline.sample(t)`
-is then a pure lookup.
+expression's numbers (shape_tracks.py), the emotion's name, speech and the robot cues. The
+named parts that themes of pictures show are read off the numbers (pictures.py).
+`Timeline.sample(t)` is then a pure lookup.
 """
 
 from __future__ import annotations
 
 import bisect
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any, Callable, Dict, List, NamedTuple, Optional, Tuple
 
 from ..core.expression import Expression
-from ..core.face_state import FaceState, Parts
-from ..core.presets import speech_mouth
-from ..core.tables import REST, viseme_mouth
+from ..core.face_constants import REST
+from ..core.face_state import FaceState
+from ..core.presets import nearest_parts, speech_mouth
 from .effects import Cue, RobotStatus, StatusFold
+from .pictures import PartsChange, picture_changes
 from .shape_tracks import ShapeTracks
 from .tracks import Piece, Track
 
@@ -42,13 +43,6 @@ Speaker = Callable[[str, Optional[str], Optional[int]], "Utterance"]
 CROSSFADE = 0.15  # seconds a script's part swap blends over; 0 cuts
 
 
-class PartsChange(NamedTuple):
-    at: float
-    parts: Parts
-    fade: float  # seconds
-    owner: float = float("-inf")  # when the statement that made it began
-
-
 class Said(NamedTuple):
     """An utterance the face says from `at`, with the mouth shapes that go with it."""
 
@@ -72,26 +66,28 @@ class Span(NamedTuple):
 
 @dataclass
 class Timeline:
-    """A compiled script: tracks, part changes, emotions, robot cues and a length."""
+    """A compiled script: tracks, emotions, robot cues and a length; `parts`, the named parts'
+    changes that themes of pictures show, are read off the expression's numbers."""
 
     eyes: Track
     lids: Track
     head: Track
-    parts: List[PartsChange]
     emotions: List[Tuple[float, str]]  # (when asked for, name), in time order
     cues: List[Cue]  # robot effects, in time order
     spans: List[Span]
     duration: float
     initial: FaceState
     speech: List[Said] = field(default_factory=list)  # in time order
-    shape: Optional[ShapeTracks] = None  # the expression; None: the named parts' presets
+    shape: Optional[ShapeTracks] = None  # the expression; None: the start's, throughout
     moods: List[Tuple[float, float, float]] = field(default_factory=list)  # (at, valence, arousal)
+    parts: List[PartsChange] = field(init=False)
     _part_times: List[float] = field(default_factory=list, repr=False)
     _emotion_times: List[float] = field(default_factory=list, repr=False)
     _speech_times: List[float] = field(default_factory=list, repr=False)
     _mood_times: List[float] = field(default_factory=list, repr=False)
 
     def __post_init__(self) -> None:
+        self.parts = [] if self.shape is None else picture_changes(self.shape, self.initial.parts)
         self._part_times = [c.at for c in self.parts]
         self._emotion_times = [at for at, _ in self.emotions]
         self._speech_times = [said.at for said in self.speech]
@@ -123,26 +119,27 @@ class Timeline:
     def _sample_parts(self, t: float) -> FaceState:
         x, y = self.eyes.value(t)
         i = bisect.bisect_right(self._emotion_times, t) - 1
-        state = self.initial.replace(
+        state = replace(
+            self.initial,
             eye_x=x,
             eye_y=y,
             eyelids=self.lids.value(t),
             head_pan=self.head.value(t),
             emotion=self.emotions[i][1] if i >= 0 else self.initial.emotion,
-            expression=None if self.shape is None else self.shape.value(t),
+            expression=self.initial.expression if self.shape is None else self.shape.value(t),
             mood=self.mood_at(t),
         )
         i = bisect.bisect_right(self._part_times, t) - 1
         if i < 0:
             return state
         change = self.parts[i]
-        state = state.with_parts(change.parts)
+        state = replace(state, pictured=change.shows)
         elapsed = t - change.at
         if elapsed < change.fade - 1e-9:  # the end of a fade, up to float rounding, is no fade
-            before = self.parts[i - 1].parts if i > 0 else self.initial.parts
-            if before != change.parts:
-                return state.replace(fade_from=before, fade=elapsed / change.fade)
-        return state.replace(fade_from=None, fade=1.0)
+            before = self.parts[i - 1].shows if i > 0 else _pictured(self.initial)
+            if nearest_parts(before) != change.parts:
+                return replace(state, pictured_from=before, fade=elapsed / change.fade)
+        return replace(state, pictured_from=None, fade=1.0)
 
     def status(self, t: float, start: Optional[RobotStatus] = None) -> RobotStatus:
         """The robot's status at t: `start` with every cue up to t folded in."""
@@ -168,26 +165,28 @@ def _speaking(state: FaceState, said: Said, t: float) -> FaceState:
     from ..speech.visemes import coarticulated_at, shape_at
 
     shape, tween_from, progress = shape_at(said.mouth, t - said.at)
+    heading = _pictured(state)  # the pictures' mouth steps from one speech shape's to the next
 
-    def mouth(parts: Parts, name: str) -> Parts:
-        return parts._replace(mouth=parts.mouth if name == REST else viseme_mouth(name))
+    # The drawn face's mouth moves through the shapes between two sounds, not a crossfade.
+    drawn, drawn_from, drawn_progress = coarticulated_at(said.mouth, t - said.at)
+    spoken = _spoken(state.expression, drawn)
+    if drawn_from is not None and drawn_progress < 1.0:
+        spoken = _spoken(state.expression, drawn_from).mix(spoken, drawn_progress)
+    state = replace(state, expression=spoken)
 
-    if state.expression is not None:
-        # The drawn face's mouth moves through the shapes between two sounds, not a crossfade.
-        drawn, drawn_from, drawn_progress = coarticulated_at(said.mouth, t - said.at)
-        spoken = _spoken(state.expression, drawn)
-        if drawn_from is not None and drawn_progress < 1.0:
-            spoken = _spoken(state.expression, drawn_from).mix(spoken, drawn_progress)
-        state = state.replace(expression=spoken)
-
-    now = mouth(state.parts, shape)
-    if state.fade_from is not None:
-        return state.with_parts(now).replace(fade_from=mouth(state.fade_from, shape))
+    now = _spoken(heading, shape)
+    if state.pictured_from is not None:
+        return replace(state, pictured=now, pictured_from=_spoken(state.pictured_from, shape))
     if tween_from is not None and progress < 1.0:
-        before = mouth(state.parts, tween_from)
-        if before != now:
-            return state.with_parts(now).replace(fade_from=before, fade=progress)
-    return state.with_parts(now)
+        before = _spoken(heading, tween_from)
+        if nearest_parts(before) != nearest_parts(now):
+            return replace(state, pictured=now, pictured_from=before, fade=progress)
+    return replace(state, pictured=now)
+
+
+def _pictured(state: FaceState) -> Expression:
+    """Where the numbers a theme of pictures shows are heading."""
+    return state.expression if state.pictured is None else state.pictured
 
 
 def _spoken(expression: Expression, shape: str) -> Expression:

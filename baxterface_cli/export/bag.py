@@ -2,7 +2,7 @@
 
 Written without ROS. The frames go to the robot's display topic as
 sensor_msgs/Image (bgr8), only those that differ from the one before; the
-script's robot effects go to their command topics (see ros/wire.py).
+script's robot effects go to their command topics (see ros/effect_messages.py).
 Chunks are LZ4-compressed as `rosbag record --lz4` writes them, with the
 index and chunk info records `rosbag info`, `check` and `play` read.
 
@@ -30,8 +30,8 @@ from typing import Any, Dict, List, NamedTuple, Optional, Tuple
 import numpy as np
 
 from ..extras import need
+from ..ros.effect_messages import COMMAND_TYPES, DISPLAY_TOPICS, ros_commands
 from ..ros.messages import DEFINITIONS, SEPARATOR
-from ..ros.wire import COMMAND_TYPES, DISPLAY_TOPICS, ros_commands
 from .sink import Export, FileSink
 
 # Chunks of about what `rosbag record` makes (768 KB); a frame is bigger, so

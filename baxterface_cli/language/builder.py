@@ -16,8 +16,7 @@ from typing import Any, Callable, Dict, List, Optional, Tuple
 from lark import Lark, Token, Transformer
 
 from ..core.easing import EASINGS
-from ..core.geometry import clamp_to_ellipse, inside_ellipse
-from ..core.tables import (
+from ..core.face_constants import (
     BROWS,
     DIRECTIONS,
     HEAD_PAN_LIMIT,
@@ -27,11 +26,13 @@ from ..core.tables import (
     UNITS,
     FollowTarget,
 )
+from ..core.geometry import clamp_to_ellipse, inside_ellipse
 from ..core.user_cache import made_cache_folder
 from ..resources import resource
 from . import syntax_tree as n
 from .diagnostics import Diagnostic, Hints, one_of
 from .expression_rules import ExpressionRules, _is_name
+from .reaction_rules import ReactionRules
 from .speech_rules import SpeechRules
 from .vocabulary import BARE_WORDS, LEGACY_USAGE, LEGACY_WORDS
 
@@ -89,7 +90,7 @@ def _spaced_unit(text: str, at: int, word: str) -> str:
 # -- tree -> AST ---------------------------------------------------------
 
 
-class _Builder(ExpressionRules, SpeechRules, Transformer):
+class _Builder(ExpressionRules, SpeechRules, ReactionRules, Transformer):
     """Builds AST nodes, recording a diagnostic for each bad value it meets."""
 
     def begin(self, text: str, line: Callable[[int], int]) -> None:

@@ -8,9 +8,10 @@ from __future__ import annotations
 
 from typing import Any, Callable, Dict, Iterator, List, Optional, Sequence, Set, Tuple
 
-from ..core.tables import LIMITS
+from ..core.face_constants import LIMITS
 from . import syntax_tree as n
 from .diagnostics import Diagnostic, Hints, shortened
+from .reaction_checks import check_reactions
 from .script_length import in_words, over_limit
 from .statements import KEYWORDS, statement_seconds
 from .vocabulary import BARE_WORDS, LEGACY_USAGE
@@ -26,7 +27,16 @@ def check(body: Sequence[Any]) -> List[Diagnostic]:
         _check_limits(body, definitions, order, out)
         _check_nesting(body, definitions, order, out)
         _check_exit(body, definitions, order, out)
+        called = _measured(definitions, order)
+        check_reactions(body, definitions, order, lambda statements: measure(statements, called), out)
     return out
+
+
+def _measured(definitions: Dict[str, n.Define], order: List[str]) -> Dict[str, Measure]:
+    called: Dict[str, Measure] = {}
+    for name in order:
+        called[name] = measure(definitions[name].body, called)
+    return called
 
 
 def walk(body: Sequence[Any]) -> Iterator[Any]:
@@ -168,6 +178,13 @@ def _measure_one(statement: Any, called: Dict[str, Measure], timed: Seconds = st
     if isinstance(statement, n.Together):
         parts = [_measure_one(child, called, timed) for child in statement.body]
         return max((p[0] for p in parts), default=0.0), sum(p[1] for p in parts)
+    if isinstance(statement, n.OneOf):  # the longest choice; every choice is compiled, one at a time
+        choices = [measure(choice, called, timed) for choice in statement.choices]
+        return max(c[0] for c in choices), sum(c[1] for c in choices)
+    if isinstance(statement, n.On):  # a handler's length is its own (reaction_checks.py), not the script's
+        return 0.0, measure(statement.body, called, timed)[1]
+    if isinstance(statement, n.Forever):  # one round: the rounds after it are the session's
+        return measure(statement.body, called, timed)
     return timed(statement), 1
 
 
@@ -275,7 +292,7 @@ def _exit_line(body: Sequence[Any], ends: Dict[str, int], out: List[Diagnostic])
     """
     ended: Optional[int] = None
     for statement in body:
-        if isinstance(statement, n.Define):
+        if isinstance(statement, (n.Define, n.On)):  # a handler's exit ends it, not what follows
             continue
         if ended is not None:
             pos = statement.pos
@@ -286,6 +303,6 @@ def _exit_line(body: Sequence[Any], ends: Dict[str, int], out: List[Diagnostic])
             ended = statement.pos.line
         elif isinstance(statement, n.Call):
             ended = ends.get(statement.name)
-        elif isinstance(statement, (n.Repeat, n.Together)):
+        elif isinstance(statement, (n.Repeat, n.Together, n.Forever)):
             ended = _exit_line(statement.body, ends, out)
     return ended

@@ -14,7 +14,7 @@ import re
 from functools import lru_cache
 from typing import Iterable, List, NamedTuple, Optional, Sequence, Tuple
 
-from ..core.tables import LIMITS
+from ..core.face_constants import LIMITS
 
 
 class Diagnostic(NamedTuple):

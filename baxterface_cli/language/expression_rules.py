@@ -12,7 +12,7 @@ from typing import Any, List, Optional
 from lark import Token
 
 from ..core.expression import CONTROLS
-from ..core.tables import EMOTIONS, MOUTHS
+from ..core.face_constants import EMOTIONS, MOUTHS
 from . import syntax_tree as n
 from .diagnostics import one_of, shortened
 from .statements import KEYWORDS

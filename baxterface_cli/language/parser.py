@@ -11,13 +11,13 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any, List, Optional, Tuple, Union
 
-from ..core.tables import LIMITS
+from ..core.face_constants import LIMITS
 from . import syntax_tree as n
 from .builder import _parser, grammar
 from .checker import check
 from .diagnostics import Diagnostic, ScriptError, keep_first
-from .recovery import _close_braces, _parse_recovering, _unshifted
-from .source import _past_piece_limit, _size, decode, read_bounded
+from .recovery import close_braces, parse_recovering, unshifted
+from .source import decode, past_piece_limit, read_bounded, utf8_size
 
 __all__ = ["grammar", "grammar_words", "parse", "parse_file", "read_bounded", "decode"]
 
@@ -31,12 +31,12 @@ def parse(text: str, filename: str = "<script>") -> n.Script:
     diagnostics: List[Diagnostic] = []
     body: Tuple[Any, ...] = ()
     legacy = False
-    size = _size(text)
+    size = utf8_size(text)
     if size > LIMITS.max_bytes:
         message = f"script is too large ({size} bytes; the limit is {LIMITS.max_bytes})"
         diagnostics.append(Diagnostic(0, 0, message))
     else:
-        too_long = _past_piece_limit(text)
+        too_long = past_piece_limit(text)
         if too_long is not None:
             diagnostics.append(too_long)
         else:
@@ -49,16 +49,16 @@ def parse(text: str, filename: str = "<script>") -> n.Script:
 
 def _build(text: str, diagnostics: List[Diagnostic]) -> Tuple[Tuple[Any, ...], bool]:
     """The AST and whether it is legacy spelling; every problem goes to `diagnostics`."""
-    braces, closed, virtual = _close_braces(text)
+    braces, closed, virtual = close_braces(text)
     diagnostics.extend(braces)
     if virtual is None:
         return (), False
     found: List[Diagnostic] = []
     builder = _parser().builder
-    builder.begin(closed, lambda line: _unshifted(line, virtual) or line)
-    statements = _parse_recovering(closed, found)
+    builder.begin(closed, lambda line: unshifted(line, virtual) or line)
+    statements = parse_recovering(closed, found)
     for d in found:
-        line = _unshifted(d.line, virtual) if d.line else 0
+        line = unshifted(d.line, virtual) if d.line else 0
         if line is not None:  # None: on a '}' we added, so the user's text is not at fault
             diagnostics.append(d._replace(line=line))
     if statements is None:

@@ -14,10 +14,10 @@ from typing import Any, Callable, List, Optional, Set, Tuple
 from lark.exceptions import UnexpectedCharacters, UnexpectedInput, UnexpectedToken, VisitError
 from lark.lexer import PatternStr
 
-from ..core.tables import LIMITS
+from ..core.face_constants import LIMITS
 from .builder import _Parser, _parser, _spaced_unit
 from .diagnostics import Diagnostic, did_you_mean
-from .source import _diagnostic_at
+from .source import diagnostic_at
 
 # -- unclosed blocks ------------------------------------------------------
 
@@ -26,7 +26,7 @@ _STRING = re.compile(r'"(?:\\.|[^"\\\n])*"?')
 _BRACES = re.compile(_STRING.pattern + r"|[{}]|#[^\n]*")
 
 
-def _close_braces(text: str) -> Tuple[List[Diagnostic], str, Optional[List[int]]]:
+def close_braces(text: str) -> Tuple[List[Diagnostic], str, Optional[List[int]]]:
     """Diagnostics for blocks never closed, and the text to parse.
 
     Each unclosed block is closed by a '}' on a line of its own, added before
@@ -41,12 +41,12 @@ def _close_braces(text: str) -> Tuple[List[Diagnostic], str, Optional[List[int]]
             opened.append(m.start())
             if len(opened) > LIMITS.max_depth:
                 message = f"blocks nest too deeply (the limit is {LIMITS.max_depth} levels)"
-                return [_diagnostic_at(text, m.start(), message)], text, None
+                return [diagnostic_at(text, m.start(), message)], text, None
         elif m.group() == "}" and opened:
             opened.pop()
     if not opened:
         return [], text, []
-    diagnostics = [_diagnostic_at(text, at, "this '{' is never closed") for at in opened]
+    diagnostics = [diagnostic_at(text, at, "this '{' is never closed") for at in opened]
     closed, added = _add_closings(text, set(opened))
     return diagnostics, closed, added
 
@@ -79,7 +79,7 @@ def _add_closings(text: str, unclosed: Set[int]) -> Tuple[str, List[int]]:
     return "\n".join(lines), added
 
 
-def _unshifted(line: int, added: List[int]) -> Optional[int]:
+def unshifted(line: int, added: List[int]) -> Optional[int]:
     """A line of the text with closings added, as a line of the user's text; None for an added line."""
     before = bisect.bisect_left(added, line)
     if before < len(added) and added[before] == line:
@@ -94,7 +94,7 @@ _RECOVERY_BUDGET = 256 * 1024  # characters re-parsed in all, so recovery stays 
 _CHUNK = 8 * 1024  # characters parsed at a time, so a syntax error costs one chunk to re-parse
 
 
-def _parse_recovering(text: str, diagnostics: List[Diagnostic]) -> Optional[List[Any]]:
+def parse_recovering(text: str, diagnostics: List[Diagnostic]) -> Optional[List[Any]]:
     """The top-level statements' trees; after a syntax error, blank the broken statement and go on.
 
     The text is parsed in chunks of whole top-level statements, each after a
@@ -173,7 +173,7 @@ def _offset(e: UnexpectedInput) -> Optional[int]:
     return getattr(e.token, "start_pos", None)
 
 
-_SEPARATORS = ";\n{}"
+_SEPARATORS = ";\n{}|"  # "|" parts the choices of a `one of`
 
 
 _LEADING_WORD = re.compile(r"[ \t]*([A-Za-z][\w-]*)(?=[ \t])")
@@ -256,7 +256,7 @@ def _describe_terminal(name: str) -> str:
 
 def _expected(names: Any) -> Tuple[str, List[str]]:
     """A phrase for what the parser wanted, and the keywords among it."""
-    names = set(names)
+    names = set(names) - {"VBAR"}  # a `one of`'s '|': the parser offers it after any block's statement
     if "LEGACY" in names:  # the start of a statement: too many to list
         rest = sorted(_describe_terminal(x) for x in names if x in ("RBRACE", "$END"))
         return " or ".join(["a command"] + rest), []

@@ -8,7 +8,7 @@ never reads as on it (`1 hour 0.001 s`), and one just over a minute never reads 
 
 from __future__ import annotations
 
-from ..core.tables import LIMITS
+from ..core.face_constants import LIMITS
 
 _MICRO = 1_000_000
 

@@ -11,32 +11,32 @@ import re
 from pathlib import Path
 from typing import Any, Optional, Union
 
-from ..core.tables import LIMITS
+from ..core.face_constants import LIMITS
 from .diagnostics import Diagnostic, ScriptError
 
 
-def _size(text: str) -> int:
+def utf8_size(text: str) -> int:
     """The text's size in UTF-8 bytes, encoding it only when that could matter."""
     if len(text) * 4 <= LIMITS.max_bytes:  # no character takes more than 4 bytes
         return len(text)
     return len(text.encode("utf-8", "surrogatepass"))
 
 
-_PIECE = re.compile(r"[^\s;{}#]+|[;{}]|\n\s*|#[^\n]*")
+PIECE = re.compile(r"[^\s;{}#]+|[;{}]|\n\s*|#[^\n]*")
 
 
-def _past_piece_limit(text: str) -> Optional[Diagnostic]:
+def past_piece_limit(text: str) -> Optional[Diagnostic]:
     """An error at the first piece past `LIMITS.max_pieces`, or None; found at regex speed."""
     if len(text) <= LIMITS.max_pieces:  # every piece takes a character at least
         return None
-    beyond = next(itertools.islice(_PIECE.finditer(text), LIMITS.max_pieces, None), None)
+    beyond = next(itertools.islice(PIECE.finditer(text), LIMITS.max_pieces, None), None)
     if beyond is None:
         return None
     message = (
         f"script is too long to read: more than {LIMITS.max_pieces} words, numbers and "
         "separators; split it into smaller scripts"
     )
-    return _diagnostic_at(text, beyond.start(), message)._replace(kind="semantic")
+    return diagnostic_at(text, beyond.start(), message)._replace(kind="semantic")
 
 
 def read_bounded(source: Union[str, Path, Any], name: str) -> bytes:
@@ -69,7 +69,7 @@ def decode(data: bytes, name: str) -> str:
         raise ScriptError([Diagnostic(line, column, message, kind="syntax")], name) from None
 
 
-def _diagnostic_at(text: str, at: int, message: str) -> Diagnostic:
+def diagnostic_at(text: str, at: int, message: str) -> Diagnostic:
     line = text.count("\n", 0, at) + 1
     column = at - (text.rfind("\n", 0, at) + 1) + 1
     return Diagnostic(line, column, message, kind="syntax")

@@ -11,7 +11,7 @@ from typing import Any, Dict, List, Optional, Tuple
 
 from lark import Token
 
-from ..core.tables import LIMITS
+from ..core.face_constants import LIMITS
 from ..core.voices import RATES, known_voice, voice_names
 from . import syntax_tree as n
 from .diagnostics import Diagnostic

@@ -18,10 +18,11 @@ import re
 from dataclasses import dataclass
 from typing import Any, Callable, Dict, Optional, Tuple
 
-from ..core.tables import EMOTIONS, TIMING
+from ..core.face_constants import EMOTIONS, TIMING
 from ..core.voices import DEFAULT_RATE
 from . import syntax_tree as n
 from .durations import speech_bound
+from .events import in_words as event_words
 
 
 @dataclass(frozen=True)
@@ -54,7 +55,7 @@ class Kind:
 
 def statement_seconds(statement: Any) -> float:
     """How long one simple (not block) statement takes on the script's clock."""
-    return KINDS[type(statement)].statement_seconds(statement)
+    return kind_of(statement).statement_seconds(statement)
 
 
 def move_seconds(statement: Any) -> float:
@@ -64,7 +65,7 @@ def move_seconds(statement: Any) -> float:
 
 def describe(statement: Any) -> str:
     """A statement in words, as `explain` lists it: `look 40 -20 in 0.5s`."""
-    return KINDS[type(statement)].in_words(statement)
+    return kind_of(statement).in_words(statement)
 
 
 def radians_and_degrees(angle: float, sign: str = "") -> str:
@@ -191,5 +192,35 @@ _ALL = (
 
 KINDS: Dict[type, Kind] = {kind.node: kind for kind in _ALL}
 
+
+def _on_words(s: n.On) -> str:
+    policy = "" if s.policy == "drop" else f" {s.policy}"
+    return f"on {event_words(s.event)}{policy}" + (f" cooldown {s.cooldown:g}s" if s.cooldown else "")
+
+
+# The statements the live session runs (engine/live_session.py, `_Runner.do_<name>`), not the
+# compiler: they wait on the world, raise events, or choose. A script with any of them runs
+# through the session, which compiles the statements between them as any script's.
+_SESSION = (
+    Kind(n.On, words=("on",), in_words=_on_words),
+    Kind(n.Forever, words=("forever",), in_words=lambda s: "forever"),
+    Kind(
+        n.WaitUntil,
+        lambda s: 0.0,  # as long as the world takes; a timeout bounds it, not the script's length
+        words=("wait", "until"),
+        in_words=lambda s: (
+            f"wait until {event_words(s.event)}" + ("" if s.timeout is None else f" timeout {s.timeout:g}s")
+        ),
+    ),
+    Kind(n.Signal, words=("signal",), in_words=lambda s: f"signal {s.name}"),
+    Kind(n.OneOf, words=("one", "of"), in_words=lambda s: "one of"),
+)
+SESSION_KINDS: Dict[type, Kind] = {kind.node: kind for kind in _SESSION}
+
 # The grammar's keywords (kept equal to grammar/face.lark by a test).
-KEYWORDS: Tuple[str, ...] = tuple(dict.fromkeys(word for kind in _ALL for word in kind.words))
+KEYWORDS: Tuple[str, ...] = tuple(dict.fromkeys(word for kind in _ALL + _SESSION for word in kind.words))
+
+
+def kind_of(statement: Any) -> Kind:
+    """The statement's `Kind`, the compiler's or the session's."""
+    return KINDS.get(type(statement)) or SESSION_KINDS[type(statement)]

@@ -14,7 +14,7 @@ import dataclasses
 from dataclasses import dataclass, field
 from typing import Any, Dict, Optional, Tuple
 
-from ..core.tables import FollowTarget
+from ..core.face_constants import FollowTarget
 
 
 class Pos:
@@ -83,7 +83,7 @@ class Feeling(Statement):
     timing: Timing = Timing()
     pos: Pos = _pos()
     # Each emotion's variant as written (from 1), None where none is: then its usual one
-    # (tables.USUAL_VARIANT). Empty when the script names none.
+    # (face_constants.USUAL_VARIANT). Empty when the script names none.
     variants: Tuple[Optional[int], ...] = ()
 
 
@@ -257,6 +257,70 @@ class Call(Statement):
 
 
 @dataclass(frozen=True)
+class Event:
+    """What a handler or a `wait until` waits for (language/events.py): `kind` is one of
+    events.KINDS ("face seen", "button", "word", ...); `arg` what it names ("ok", "left ok", the
+    words "hello there", "left eye", a signal's name; "" for none); `seconds` an `every` or
+    `idle`'s period. Not a statement: a part of one."""
+
+    kind: str
+    arg: str = ""
+    seconds: float = 0.0
+    pos: Pos = _pos()
+
+
+@dataclass(frozen=True)
+class On(Block):
+    """`on face seen queue cooldown 5s { ... }`: a handler, at the top level only. `policy` is
+    what an event does while a handler runs: "drop", "queue" or "interrupt"."""
+
+    event: Event
+    body: Tuple[Statement, ...]
+    policy: str = "drop"
+    cooldown: float = 0.0
+    pos: Pos = _pos()
+
+
+@dataclass(frozen=True)
+class Forever(Block):
+    """Run the body again and again, for as long as the face runs."""
+
+    body: Tuple[Statement, ...]
+    pos: Pos = _pos()
+
+
+@dataclass(frozen=True)
+class OneOf(Block):
+    """`one of { a | b; c }`: one of the choices, drawn from the seed's random stream."""
+
+    choices: Tuple[Tuple[Statement, ...], ...]
+    pos: Pos = _pos()
+
+    @property
+    def body(self) -> Tuple[Statement, ...]:  # type: ignore[override]
+        """Every choice's statements, one after another: what the checks look through."""
+        return tuple(s for choice in self.choices for s in choice)
+
+
+@dataclass(frozen=True)
+class WaitUntil(Statement):
+    """`wait until face seen timeout 5s`: hold here until the event comes (or the timeout,
+    None for none, passes)."""
+
+    event: Event
+    timeout: Optional[float] = None
+    pos: Pos = _pos()
+
+
+@dataclass(frozen=True)
+class Signal(Statement):
+    """`signal poke`: raise the event `signal poke`, for the handlers and waits on it."""
+
+    name: str
+    pos: Pos = _pos()
+
+
+@dataclass(frozen=True)
 class Script:
     body: Tuple[Statement, ...]
     filename: str = field(default="<script>", compare=False)
@@ -273,7 +337,9 @@ class Script:
         return {s.name: s for s in self.body if isinstance(s, Define)}
 
 
-BLOCKS = tuple(Block.__subclasses__())  # Repeat, Together, Define: every node that holds others
+BLOCKS = tuple(
+    Block.__subclasses__()
+)  # Repeat, Together, Define, On, Forever, OneOf: every node that holds others
 
 
 def to_json(node: Any) -> Any:

@@ -10,7 +10,7 @@ from __future__ import annotations
 from functools import partial
 from typing import Any, Callable, Dict, Tuple
 
-from ..core.tables import EMOTIONS, FollowTarget
+from ..core.face_constants import EMOTIONS, FollowTarget
 from . import syntax_tree as n
 from .statements import KINDS
 

@@ -12,13 +12,14 @@ from __future__ import annotations
 import threading
 from typing import Any, Callable, Optional, Tuple
 
+from ..closing import ClosedOnExit
 from ..extras import MissingTool
-from .face_choice import DEFAULT_FACE_POLICY
+from .person_choice import DEFAULT_FACE_POLICY
 
 Point = Tuple[float, float]
 
 
-class CameraWatch:
+class CameraWatch(ClosedOnExit):
     """Images in (`give`, from any thread), the eye target of the face in them out (`hand_to`).
 
     `decode` turns what `give` was handed (a ROS message, say) into an
@@ -26,7 +27,7 @@ class CameraWatch:
     image that cannot be decoded or looked at is reported through `warn`
     and skipped. `hfov_deg` is the camera's field of view (None: Baxter's head camera's,
     or the focal length the camera says, `lens`); `policy` which face is followed
-    among several (face_choice.FACE_POLICIES).
+    among several (person_choice.FACE_POLICIES).
     """
 
     def __init__(
@@ -55,7 +56,10 @@ class CameraWatch:
 
     def start(self) -> Optional[str]:
         """Look for a face afresh (forgetting any seen before); None, or why it cannot."""
-        from .face_finder import BAXTER_HEAD_CAMERA_HFOV, FaceFollower  # OpenCV only when a face is followed
+        from .person_finder import (  # OpenCV only when a face is followed
+            BAXTER_HEAD_CAMERA_HFOV,
+            FaceFollower,
+        )
 
         try:
             follower = FaceFollower(

@@ -13,8 +13,8 @@ from collections import deque
 from dataclasses import dataclass, replace
 from typing import Any, Deque, Iterable, List, Optional, Tuple
 
+from ..core.face_constants import EYE_RADIUS_X
 from ..core.geometry import clamp_to_ellipse
-from ..core.tables import EYE_RADIUS_X
 
 # Front sonar sensors and where each sits on a line from -3 (the robot's
 # right) to 3 (its left): ids 0..3 -> 0, -1, -2, -3; 9, 10, 11 -> 3, 2, 1.

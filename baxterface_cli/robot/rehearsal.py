@@ -21,11 +21,11 @@ from pathlib import Path
 from typing import Any, Callable, Iterator, List, Optional, Tuple
 
 from ..core.face_state import FaceState
-from ..engine.effects import Effect, Follow, HeadPan
+from ..engine.effects import Effect, HeadPan, SetFollowing
 from ..engine.timeline import RobotStatus
 from ..extras import need
 from .camera_watch import CameraWatch
-from .face_choice import DEFAULT_FACE_POLICY, check_face_policy
+from .person_choice import DEFAULT_FACE_POLICY, check_face_policy
 from .robot_rules import Robot
 
 TRACE_SUFFIXES = (".jsonl", ".ndjson")
@@ -153,7 +153,7 @@ class Rehearsal:
     `look(state, t, status)` is called once a frame with the script's face,
     time and robot status; it returns the face with the eyes where following
     puts them. Time going back (a loop, a reload) starts the source again.
-    `face_policy` chooses among several faces in camera images (face_choice).
+    `face_policy` chooses among several faces in camera images (person_choice).
     """
 
     def __init__(
@@ -186,7 +186,7 @@ class Rehearsal:
         if wanted != self.following:
             self.following = wanted
             self._check(wanted[0])
-            self.robot.follow(Follow(*wanted), t)
+            self.robot.follow(SetFollowing(*wanted), t)
             if not wanted[1]:
                 self.turned = None
         if self.turned is None:

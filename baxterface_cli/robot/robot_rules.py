@@ -23,10 +23,19 @@ import math
 from collections import deque
 from typing import Any, Callable, Deque, Dict, Optional, Sequence, Tuple
 
+from ..core.face_constants import FollowTarget
 from ..core.face_state import FaceState
 from ..core.geometry import clamp_to_ellipse, dynamic_look, to_pixels, to_radians
-from ..core.tables import FollowTarget
-from ..engine.effects import Effect, EffectHandler, Exit, Follow, HeadNod, HeadPan, SetEnabled, Speech
+from ..engine.effects import (
+    Effect,
+    EffectHandler,
+    HeadNod,
+    HeadPan,
+    SetEnabled,
+    SetFollowing,
+    ShutDown,
+    Speech,
+)
 from .camera_watch import CameraWatch
 from .following import ArmFollower, HumanFollower
 
@@ -234,18 +243,18 @@ class Robot(EffectHandler):
         self.enable_goal = (effect.enabled, now, now + ENABLE_TIMEOUT)
         self._ask_enable(now)
 
-    def follow(self, effect: Follow, now: float) -> None:
+    def follow(self, effect: SetFollowing, now: float) -> None:
         if effect.target == "face":
             problem = self.camera.start()
             if problem:
                 self.warn(f"not following a face: {problem}")
-                effect = Follow(None)
+                effect = SetFollowing(None)
         else:
             self.camera.stop()
         self.gaze.follow(effect.target, effect.dynamic, now)
         self.info(f"following: {effect.target or 'nothing'}" + (" (dynamic)" if effect.dynamic else ""))
 
-    def exit(self, effect: Exit, now: float) -> None:
+    def exit(self, effect: ShutDown, now: float) -> None:
         pass  # the adapter ends itself once the last frame is out
 
     def speech(self, effect: Speech, now: float) -> None:

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from typing import Callable
 
+from ..closing import ClosedOnExit
 from .connect import open_link
 from .link import CHATTER
 
@@ -28,7 +29,7 @@ class ChatterLink:
         return f"sending to {self.topic} ({listening} listening)"
 
 
-class ChatterListener:
+class ChatterListener(ClosedOnExit):
     """Hands each command heard on `topic` to `hand`, in the order they came, as the face node
     hears them."""
 

@@ -16,6 +16,7 @@ from typing import Optional
 
 import numpy as np
 
+from ..closing import ClosedOnExit
 from .link import Link
 
 FORMAT = "bgr8; jpeg compressed bgr8"
@@ -32,7 +33,7 @@ def jpeg(frame: np.ndarray, quality: int = QUALITY) -> bytes:
     return out.getvalue()
 
 
-class CompressedFrames:
+class CompressedFrames(ClosedOnExit):
     """Publishes JPEGs of the frames it is offered, while the topic has subscribers."""
 
     def __init__(self, link: Link, display_topic: str) -> None:

@@ -104,12 +104,19 @@ def require_master(timeout: float = 3.0) -> None:
 
 
 def open_link(
-    version: int, name: str, argv: Sequence[str] = (), anonymous: bool = False, node: bool = False
+    version: int,
+    name: str,
+    argv: Sequence[str] = (),
+    anonymous: bool = False,
+    node: bool = False,
+    leaving: str = "done",
 ) -> Link:
     """Join ROS `version` (1 or 2) as node `name`; `argv` is the command line's ROS arguments.
 
     `anonymous` adds a unique suffix to the name (for tools of which several may run);
     `node` is for a long-running node that serves parameters (ROS 2's parameter services).
+    The link is a context manager: `with open_link(...) as link:` leaves ROS at the block's end,
+    giving `leaving` as the reason.
     Raises RosUnavailable (connect.py) when that ROS cannot be used from this Python, or when
     ROS 1's master does not answer.
     """
@@ -120,11 +127,16 @@ def open_link(
 
         require_master()  # rospy would wait for one for ever
 
-        return RospyLink(name, args, anonymous)
+        return _leaving(RospyLink(name, args, anonymous), leaving)
     from .link_ros2 import RclpyLink
     from .transport import TransportError
 
     try:
-        return RclpyLink(name, args, anonymous, node)
+        return _leaving(RclpyLink(name, args, anonymous, node), leaving)
     except TransportError as e:  # BAXTERFACE_ROS_TRANSPORT, or the node's parameter: one line to show
         raise RosUnavailable(str(e)) from None
+
+
+def _leaving(link: Link, reason: str) -> Link:
+    link.leaving = reason
+    return link

@@ -26,16 +26,16 @@ import threading
 import time
 from typing import Any, List, Optional, Tuple
 
+from ..core.face_constants import BROWS, MOUTHS, SKINS
 from ..core.face_state import FaceState
-from ..core.tables import BROWS, MOUTHS, SKINS
 from ..drawing.renderer import Renderer
-from ..engine.backlog import Backlog
+from ..engine.change_polling import FirstMotion
+from ..engine.command_intake import Intake
 from ..engine.effects import Speech
-from ..engine.first_motion import FirstMotion
-from ..engine.intake import Intake
 from ..engine.live_face import LiveFace, sleep_face
+from ..engine.log_backlog import Backlog
 from ..robot.camera_watch import CameraWatch
-from ..robot.face_networks import detector_note
+from ..robot.mtcnn_detector import detector_note
 from ..speech.recordings import Recordings
 from .compressed import CompressedFrames
 from .connect import open_link
@@ -208,13 +208,10 @@ class FaceNode:
     # -- the loop
 
     def run(self) -> int:
-        try:
+        self.link.leaving = "face node finished"
+        # Left in the reverse order: the speaker, the JPEGs, the camera, then ROS.
+        with self.link, self.robot.camera, self.jpeg, self.speaker:
             return self._run()
-        finally:
-            self.speaker.close()
-            self.jpeg.close()
-            self.robot.camera.close()
-            self.link.close("face node finished")
 
     def _run(self) -> int:
         sys.setswitchinterval(SWITCH_INTERVAL)
@@ -320,7 +317,7 @@ def run_node(argv: List[str], version: int = 1) -> int:
     link = open_link(version, NODE_NAME, argv, node=True)
     try:
         node = FaceNode(link)
-    except BaseException:
+    except BaseException:  # closed here only if the node cannot start; else `run` closes it
         link.close("the face node could not start")
         raise
     return node.run()

@@ -24,6 +24,8 @@ import sys
 import time
 from typing import Any, Callable, Optional
 
+from ..closing import ClosedOnExit
+
 VERSIONS = (1, 2)
 # The face node's topics, in the spelling both versions take ("~" is the node's own).
 CHATTER = "display_chatter"  # commands and scripts in (std_msgs/String)
@@ -83,12 +85,16 @@ class Subscription:
         raise NotImplementedError
 
 
-class Link:
-    """A node on ROS 1 or ROS 2. See the module's docstring, and docs/ros.md for the contract."""
+class Link(ClosedOnExit):
+    """A node on ROS 1 or ROS 2. See the module's docstring, and docs/ros.md for the contract.
+
+    A `with` block closes it, giving `leaving` as the reason (ROS 1 logs it; open_link sets it).
+    """
 
     version: int
     name: str  # the node's full name, "/baxter_face"
     transport = ""  # ROS 2: how frames travel, in words for the log (transport.py)
+    leaving = "done"  # why the node leaves ROS when a `with` block closes the link
 
     def resolve(self, topic: str) -> str:
         """A topic's full name, remappings applied ("~state" -> "/baxter_face/state")."""
@@ -157,3 +163,6 @@ class Link:
     def close(self, reason: str = "done") -> None:
         """Leave ROS: publishers, subscriptions and the node go."""
         raise NotImplementedError
+
+    def __exit__(self, kind: Any, error: Any, trace: Any) -> None:
+        self.close(self.leaving)

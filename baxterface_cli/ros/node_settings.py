@@ -14,9 +14,9 @@ from typing import Any, Callable, Optional, Tuple
 
 from ..drawing.theme import ThemeError, resolve
 from ..drawing.theme_manifest import parse_size
-from ..robot.face_choice import DEFAULT_FACE_POLICY, FACE_POLICIES, FACE_POLICY_CHOICES
+from ..robot.person_choice import DEFAULT_FACE_POLICY, FACE_POLICIES, FACE_POLICY_CHOICES
+from .effect_messages import DISPLAY_TOPICS
 from .speakers import AUDIO_CHOICES, DEFAULT_AUDIO, SPEAKERS
-from .wire import DISPLAY_TOPICS
 
 CAMERA_TOPIC = "/cameras/head_camera/image"
 

@@ -1,7 +1,7 @@
 """The robot's topics through a `Link`: effects out, the head and enabled state in.
 
 `connect_robot` wires a core `Robot` to the topics, sending each effect as
-`wire.ros_commands` says. A message type the link does not have (Baxter's own,
+`effect_messages.ros_commands` says. A message type the link does not have (Baxter's own,
 on a ROS 2 without baxter_core_msgs) leaves its topic out: the face still does
 what the script says, and the first effect that would have gone there says so.
 """
@@ -12,8 +12,8 @@ from typing import Any, Callable, Dict, Optional, Set
 
 from ..engine.effects import Speech
 from ..robot.robot_rules import Robot
+from .effect_messages import COMMAND_TYPES, HEAD_STATE_TOPIC, ROBOT_STATE_TOPIC, SOUND_TOPIC, ros_commands
 from .link import Link
-from .wire import COMMAND_TYPES, HEAD_STATE_TOPIC, ROBOT_STATE_TOPIC, SOUND_TOPIC, ros_commands
 
 WARN_EVERY = 5.0  # seconds between repeats of one warning about bad robot data
 HEAD_STATE_TYPE = "baxter_core_msgs/HeadState"

@@ -10,11 +10,11 @@ from ..engine.animation import Animation
 from ..engine.effects import Cue
 from ..play.player import Player
 from .connect import open_link
+from .effect_messages import DISPLAY_TOPICS
 from .images import image_fields
 from .link import Link
 from .robot_link import connect_robot
 from .speakers import default_audio, open_speaker
-from .wire import DISPLAY_TOPICS
 
 DELIVERY = 5.0  # seconds a message may take to reach every listener before `send` moves on
 CONNECT = 5.0  # seconds `stream` on ROS 2 waits for the screen to subscribe before it plays anyway
@@ -106,13 +106,11 @@ def stream(
     on that ROS version), so one script sends the same commands at the same
     times from both.
     """
-    link = open_link(version, "baxterface_stream", argv, anonymous=True)
-    try:
+    with open_link(version, "baxterface_stream", argv, anonymous=True, leaving="streamed") as link:
         screen = _RosScreen(link, DISPLAY_TOPICS[robot])
-        speaker = open_speaker(
+        with open_speaker(
             audio or default_audio(version), link, lambda t: link.log("warn", t), "--audio"
-        )
-        try:
+        ) as speaker:
             arm = connect_robot(link, speak=speaker.speak)
             screen.wait_for_listener(CONNECT if version == 2 else 0.5)  # the first frames reach the screen
             pending: List[Cue] = list(animation.timeline.cues)
@@ -125,8 +123,4 @@ def stream(
             player = Player(animation, renderer, screen, fps, on_time=on_time)
             played = player.run()
             time.sleep(0.3)
-        finally:
-            speaker.close()
-    finally:
-        link.close("streamed")
     return played

@@ -14,13 +14,14 @@ import time
 from collections import deque
 from typing import Any, Callable, Deque, Dict, Optional, Tuple
 
+from ..closing import ClosedOnExit
 from ..core.run_folders import own_folder
 from ..engine.effects import Speech
 from ..speech.soundtrack import write_wav
-from .wire import COMMAND_TYPES, PLAY_ONCE, PLAY_STOP, SOUND_PLAY_FILE, SOUND_TOPIC
+from .effect_messages import COMMAND_TYPES, PLAY_ONCE, PLAY_STOP, SOUND_PLAY_FILE, SOUND_TOPIC
 
 
-class Speaker:
+class Speaker(ClosedOnExit):
     """Where speech goes: nowhere (`_audio:=none`: the mouth moves, nothing is heard).
 
     `speak` runs on the frame loop as a Speech cue falls due, which is when the

@@ -7,14 +7,18 @@ ROS link of either version (ros/link.py).
 
 from __future__ import annotations
 
-from typing import Callable
+from typing import TYPE_CHECKING, Callable
+
+if TYPE_CHECKING:
+    from ..ros.chatter import ChatterListener
 
 
-def listen(version: int, topic: str, hand: Callable[[str], None]) -> Callable[[], None]:
-    """Subscribe to `topic` on ROS `version`, each command to `hand`; returns what unsubscribes.
+def listen(version: int, topic: str, hand: Callable[[str], None]) -> ChatterListener:
+    """Subscribe to `topic` on ROS `version`, each command to `hand`; returns the listener, which
+    unsubscribes when closed (or at the end of a `with` block).
 
     RosUnavailable, with what to do, when that ROS cannot be reached from here.
     """
     from ..ros.chatter import ChatterListener
 
-    return ChatterListener(topic, hand, version).close
+    return ChatterListener(topic, hand, version)

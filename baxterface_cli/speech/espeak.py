@@ -29,13 +29,13 @@ _INITIALIZE_DONT_EXIT = 0x8000  # missing data files: return an error rather tha
 _CHARS_UTF8 = 1
 _POS_CHARACTER = 1
 _RATE = 1  # espeak_PARAMETER espeakRATE
-_EE_OK = 0
+EE_OK = 0
 _SEED = 1  # any fixed number: the same text, voice and rate then give the same samples
 
-_EVENT_END_OF_LIST = 0
-_EVENT_WORD = 1
-_EVENT_PHONEME = 7
-_EVENT_SAMPLERATE = 8
+EVENT_END_OF_LIST = 0
+EVENT_WORD = 1
+EVENT_PHONEME = 7
+EVENT_SAMPLERATE = 8
 
 
 class _EventId(ctypes.Union):
@@ -155,7 +155,7 @@ class _Session:
             _LOCK.release()
 
 
-def _library() -> Tuple[str, int, str]:
+def espeak_library() -> Tuple[str, int, str]:
     """libespeak-ng's path, sample rate and version, found once; MissingTool without it."""
     global _found
     with _LOCK:
@@ -182,17 +182,17 @@ def _library() -> Tuple[str, int, str]:
 
 def espeak_version() -> str:
     """The espeak-ng's version, e.g. "1.51"; MissingTool without it."""
-    return _library()[2]
+    return espeak_library()[2]
 
 
 def _select(lib: ctypes.CDLL, voice: str) -> None:
     """Make `voice` (a lower-case name from VOICES) the current voice, as `espeak-ng -v` does."""
     name = voice.encode("utf-8")
     # By name or file first ("en-us" is the file gmw/en-US); then by language ("fr-fr" is roa/fr).
-    if lib.espeak_SetVoiceByName(name) == _EE_OK:
+    if lib.espeak_SetVoiceByName(name) == EE_OK:
         return
     spec = _Voice(languages=name)
-    if lib.espeak_SetVoiceByProperties(ctypes.byref(spec)) != _EE_OK:
+    if lib.espeak_SetVoiceByProperties(ctypes.byref(spec)) != EE_OK:
         raise ValueError(f"voice '{voice}' is not in this espeak-ng; espeak-ng --voices lists what is")
 
 
@@ -237,12 +237,12 @@ def synthesize(path: str, text: str, voice: str, rate: int) -> Spoken:
             if wav and count > 0:
                 chunks.append(ctypes.string_at(wav, count * 2))
             i = 0
-            while events and events[i].type != _EVENT_END_OF_LIST:
+            while events and events[i].type != EVENT_END_OF_LIST:
                 e = events[i]
-                if e.type == _EVENT_SAMPLERATE:
+                if e.type == EVENT_SAMPLERATE:
                     heard.append(Heard(e.type, e.id.number, 0, ""))
-                elif e.type in (_EVENT_WORD, _EVENT_PHONEME):
-                    name = e.id.string.decode("utf-8", "replace") if e.type == _EVENT_PHONEME else ""
+                elif e.type in (EVENT_WORD, EVENT_PHONEME):
+                    name = e.id.string.decode("utf-8", "replace") if e.type == EVENT_PHONEME else ""
                     heard.append(Heard(e.type, _event_sample(e, sample_rate), e.text_position, name))
                 i += 1
             return 0

@@ -56,10 +56,10 @@ def serve(requests: int, replies: int) -> None:
     # one by closing its pipe. Without this, a press of Ctrl-C would read as a crash.
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     from ..extras import MissingTool
-    from .espeak import _library, synthesize, voice_file
+    from .espeak import espeak_library, synthesize, voice_file
 
     try:
-        path, sample_rate, version = _library()
+        path, sample_rate, version = espeak_library()
     except MissingTool as e:
         send(replies, {"missing": str(e)})
         return

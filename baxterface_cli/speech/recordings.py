@@ -95,11 +95,6 @@ class Recital(NamedTuple):
     mouth: Tuple[MouthKey, ...]
 
 
-def cache_folder() -> Path:
-    """Where analyses are kept: `$XDG_CACHE_HOME/baxterface/lipsync`, or `~/.cache/...`."""
-    return user_cache.cache_folder("lipsync")
-
-
 class Recordings:
     """Where `say file` names are looked up, and the recordings said from there."""
 
@@ -209,7 +204,8 @@ class Recordings:
     def _analysis(
         self, sound: Any, digest: str, method: str, say: n.Say
     ) -> Tuple[Tuple[Phoneme, ...], Tuple[Word, ...], str]:
-        folder = self.cache or cache_folder()
+        # analyses are kept in `$XDG_CACHE_HOME/baxterface/lipsync`, or `~/.cache/...`
+        folder = self.cache or user_cache.cache_folder("lipsync")
         # Only an alignment reads the words, in English: a new `text` for a long recording, or for
         # another language, is the same analysis.
         english = _english(say.language)

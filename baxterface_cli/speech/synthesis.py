@@ -23,7 +23,7 @@ import numpy as np
 
 from ..core.voices import DEFAULT_RATE, DEFAULT_VOICE, RATES, known_voice, voice_names
 from ..language.diagnostics import did_you_mean
-from .espeak import _EE_OK, _EVENT_PHONEME, _EVENT_SAMPLERATE, _EVENT_WORD, Heard
+from .espeak import EE_OK, EVENT_PHONEME, EVENT_SAMPLERATE, EVENT_WORD, Heard
 from .espeak_process import EspeakProcess, SynthesisFailed
 
 __all__ = [
@@ -177,10 +177,10 @@ class SpeechEngine:
 
     def _synthesize(self, text: str, voice: str, rate: int) -> Utterance:
         spoken = self._process.say(text, voice, rate)
-        if spoken.status != _EE_OK:
+        if spoken.status != EE_OK:
             raise RuntimeError(f"espeak-ng could not say {text!r} (error {spoken.status})")
         heard = spoken.heard
-        sample_rate = next((h.sample for h in heard if h.kind == _EVENT_SAMPLERATE), self.sample_rate)
+        sample_rate = next((h.sample for h in heard if h.kind == EVENT_SAMPLERATE), self.sample_rate)
         samples = np.frombuffer(spoken.pcm, dtype=np.int16)
         return _utterance(text, voice, rate, samples, sample_rate, heard)
 
@@ -203,7 +203,7 @@ def _utterance(
     def seconds(sample: int) -> float:
         return min(max(sample - first, 0), end) / sample_rate
 
-    starts = [(seconds(h.sample), h.name) for h in heard if h.kind == _EVENT_PHONEME]
+    starts = [(seconds(h.sample), h.name) for h in heard if h.kind == EVENT_PHONEME]
     # At the top rate espeak-ng speeds its sound up afterwards, and a clause's closing pause
     # can then be reported up to 20 ms after the next phoneme's start: no phoneme starts after
     # the next one does.
@@ -213,7 +213,7 @@ def _utterance(
     ends = [at for at, _ in starts[1:]] + [end / sample_rate]
     # A phoneme with no time left (the final "_", or one cut off with the silence) is not heard.
     phonemes = tuple(Phoneme(at, stop, name) for (at, name), stop in zip(starts, ends) if stop > at)
-    spoken = [(seconds(h.sample), h.text_position) for h in heard if h.kind == _EVENT_WORD]
+    spoken = [(seconds(h.sample), h.text_position) for h in heard if h.kind == EVENT_WORD]
     return Utterance(text, voice, rate, samples, sample_rate, phonemes, _words(text, spoken, phonemes))
 
 

@@ -27,7 +27,7 @@ from typing import Dict, List, NamedTuple, Optional, Tuple
 
 import numpy as np
 
-from ..core.tables import REST
+from ..core.face_constants import REST
 from .synthesis import Utterance
 
 

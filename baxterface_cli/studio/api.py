@@ -21,7 +21,7 @@ from starlette.routing import Route
 from ..drawing.renderer import Renderer
 from ..language.diagnostics import ScriptError
 from ..web.face_api import BadRequest, FaceApi, Heavy, answered, body_bytes, body_json
-from ..web.guard import Guard
+from ..web.request_guard import Guard
 from ..web.server import logger
 from .workspace import SaveConflict, TooLargeToSave, TooManySessions, Workspace
 

@@ -23,14 +23,15 @@ import random
 import time
 from typing import List, NamedTuple, Optional, Tuple
 
+from ..core.face_constants import LIMITS
 from ..core.face_state import FaceState
-from ..core.tables import LIMITS
 from ..engine.compiler import compile_script
 from ..engine.effects import RobotStatus
+from ..engine.session_program import not_here
 from ..engine.timeline import Timeline
 from ..language.diagnostics import Diagnostic, ScriptError
 from ..language.parser import parse
-from ..language.source import _PIECE
+from ..language.source import PIECE
 from ..language.syntax_tree import Script
 from ..speech.recordings import RecordingError, Recordings
 
@@ -169,7 +170,7 @@ class Session:
         """ScriptError past a script's limits, which the session as a whole keeps to, so that `play`
         takes the export: the parts before (`closed`: bytes and pieces) and this one's `text`, whose
         bytes and pieces it returns."""
-        own = (len(text.encode("utf-8")), sum(1 for _ in _PIECE.finditer(text)))
+        own = (len(text.encode("utf-8")), sum(1 for _ in PIECE.finditer(text)))
         size, pieces = own[0] + closed[0] + HEADER_BYTES, own[1] + closed[1]
         if seconds > LIMITS.max_seconds:
             why = f"run past {LIMITS.max_seconds / 60:.0f} minutes, the longest a script may run"
@@ -193,6 +194,9 @@ class Session:
         return pending.at
 
     def _compile(self, script: Script, start: Optional[FaceState] = None) -> Timeline:
+        refused = not_here(script, "the studio")  # until the studio runs engine/live_session.py
+        if refused is not None:
+            raise refused
         try:
             return compile_script(script, self.seed, start=start, recordings=self.recordings)
         except RecordingError as e:  # a press that says a recording it cannot

@@ -19,9 +19,10 @@ from pathlib import Path
 from typing import Any, Callable, Dict, List, Optional, Tuple, Union
 
 from ..core.easing import EASINGS
+from ..core.face_constants import BROWS, DIRECTIONS, EMOTIONS, LIMITS, MOUTHS
 from ..core.partial_files import PartialFile, write_atomic
 from ..core.presets import MOOD_CIRCLE
-from ..core.tables import BROWS, DIRECTIONS, EMOTIONS, LIMITS, MOUTHS
+from ..engine.session_program import not_here
 from ..engine.timeline import Timeline
 from ..extras import MissingTool
 from ..language.checker import walk
@@ -200,6 +201,14 @@ class Workspace:
             with self.lock:
                 self.text = text
             return {"diagnostics": diagnostics_json(unsaid) + diagnostics, "timeline": self.timeline()}
+        refused = not_here(script, "the studio")  # until the studio runs engine/live_session.py
+        if refused is not None:
+            with self.lock:
+                self.text = text
+            return {
+                "diagnostics": diagnostics_json(refused.diagnostics) + diagnostics,
+                "timeline": self.timeline(),
+            }
         if english and not phones_heard.available():  # the rougher mouth: say so
             diagnostics.append(problem(NO_POCKETSPHINX, "warning"))
         animation, note = None, self.preview_note

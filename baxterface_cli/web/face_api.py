@@ -27,14 +27,14 @@ from starlette.routing import Mount, Route, WebSocketRoute
 from starlette.staticfiles import StaticFiles
 from starlette.websockets import WebSocket, WebSocketDisconnect
 
-from ..core.tables import LIMITS
+from ..core.face_constants import LIMITS
 from ..drawing.renderer import Renderer
 from ..extras import MissingTool
 from ..language.diagnostics import ScriptError, shortened
 from ..language.source import decode
 from .answers import diagnostics_json, problem
-from .guard import Guard
-from .pump import STATUS_EVERY, Frames, Pages, Pump, Shown
+from .frame_pump import STATUS_EVERY, Frames, Pages, Pump, Shown
+from .request_guard import Guard
 from .sounds import SOUND_KEY
 
 HEAVY_WAITING = 16  # scripts waiting to be parsed before more are refused

@@ -2,7 +2,7 @@
 SIGTERM, the address, and the lines it logs.
 
 The application is a `FaceApi`'s (face_api.py; studio/api.py and screen/screen_api.py extend it);
-the frame pump is pump.py's. Connections are kept from using up the process's files (connections.py).
+the frame pump is frame_pump.py's. Connections are kept from using up the process's files (connections.py).
 """
 
 from __future__ import annotations

@@ -7,7 +7,7 @@ import pytest
 
 from baxterface_cli.core.expression import Expression
 from baxterface_cli.drawing.artwork import brows_window, draw_brows_numbers
-from baxterface_cli.drawing.drawn_parts import _BROWS, STEPS, BrowsKey, DrawnParts, _drawn_sprite
+from baxterface_cli.drawing.drawn_parts import _BROWS, STEPS, DrawnBrowsKey, DrawnParts, _drawn_sprite
 from baxterface_cli.drawing.vector_shapes import Canvas, _straight, ellipse
 
 
@@ -39,7 +39,7 @@ def test_a_first_shape_over_nothing_is_laid_as_any_other():
 def test_brows_drawn_from_their_coverage_are_the_brows_drawn_in_floats(size, seed):
     numbers = tuple(int(n) for n in np.random.default_rng(seed).integers(-STEPS, STEPS, len(_BROWS)))
     parts = DrawnParts(size, {}, {}, {})
-    quick = parts._brows(BrowsKey(numbers))
+    quick = parts._brows(DrawnBrowsKey(numbers))
     e = Expression()._replace(**{f: n / STEPS for f, n in zip(_BROWS, numbers)})
     plain = _drawn_sprite(size, brows_window(e), lambda c: draw_brows_numbers(c, e))
     assert (quick.x, quick.y) == (plain.x, plain.y)

@@ -11,7 +11,7 @@ from baxterface_cli.drawing import theme as theme_module
 from baxterface_cli.drawing import theme_manifest
 from baxterface_cli.drawing.renderer import Renderer
 from baxterface_cli.drawing.theme import Theme
-from baxterface_cli.drawing.theme_fitting import _prepare
+from baxterface_cli.drawing.theme_fitting import prepare_layers
 from baxterface_cli.resources import resource
 
 SIZE = (320, 188)
@@ -41,8 +41,8 @@ def cache(tmp_path, monkeypatch):
 def test_a_face_started_again_draws_the_same_without_reading_its_pictures(cache, monkeypatch):
     first = fresh_default().layers(SIZE)
     assert [p.name.split("-")[1] for p in cache.glob("*.npz")] == ["320x188"]
-    monkeypatch.setattr(theme_manifest, "_read_image", cannot_read)
-    monkeypatch.setattr(theme_module, "_read_image", cannot_read)
+    monkeypatch.setattr(theme_manifest, "read_image", cannot_read)
+    monkeypatch.setattr(theme_module, "read_image", cannot_read)
     again = fresh_default().layers(SIZE)
     angry = {"skin": 4, "mouth": "sad", "brows": "angry", "eye_x": 30.0, "eyelids": 0.4}
     for state in ({}, angry, {"skin": 5}):
@@ -52,7 +52,7 @@ def test_a_face_started_again_draws_the_same_without_reading_its_pictures(cache,
 def test_the_kept_layers_are_the_fitted_ones_sprite_for_sprite(cache):
     theme = Theme.load(resource("assets/default"))  # read from its pictures, drawn at SIZE
     theme.builtin = True
-    made = _prepare(theme.placed_at(SIZE), SIZE, theme.lid_travel)
+    made = prepare_layers(theme.placed_at(SIZE), SIZE, theme.lid_travel)
     kept = fresh_default().layers(SIZE)  # kept now, then loaded back below
     kept = fresh_default().layers(SIZE)
     assert (kept.size, kept.scale, kept.lid_travel, kept.lid_bands) == (

@@ -8,9 +8,9 @@ from PIL import Image
 
 from baxterface_cli import Face
 from baxterface_cli.core.expression import MOUTH_FIELDS
+from baxterface_cli.core.face_constants import BROWS, EMOTIONS, MOUTHS
 from baxterface_cli.core.face_state import FaceState, Parts
 from baxterface_cli.core.presets import BROW_PRESETS, MOUTH_PRESETS, emotion_preset, from_parts
-from baxterface_cli.core.tables import BROWS, EMOTIONS, MOUTHS
 from baxterface_cli.drawing.drawn_parts import STEPS
 from baxterface_cli.drawing.renderer import Renderer, compose
 from baxterface_cli.drawing.theme import Theme
@@ -157,9 +157,12 @@ def test_a_theme_of_pictures_shows_the_named_parts(tmp_path):
     Face().theme.export(tmp_path / "pictures")
     layers = Theme.load(tmp_path / "pictures").layers((1024, 600))
     assert layers.drawn is None
-    state = FaceState(expression=emotion_preset("sad", 1))
-    # The timeline names the nearest parts beside the numbers; a picture theme draws those.
-    assert np.array_equal(compose(layers, state), compose(layers, FaceState()))
+    nudged = emotion_preset("sad", 1)._replace(mouth_curve=-0.8, brow_left_height=0.1)
+    # The named parts are a view of the numbers: a picture theme draws the ones nearest them.
+    sad = EMOTIONS["sad"]
+    pictures = FaceState(skin=sad.skin, mouth=sad.variants[1][0], brows=sad.variants[1][1])
+    assert np.array_equal(compose(layers, FaceState(expression=nudged)), compose(layers, pictures))
+    assert not np.array_equal(compose(layers, pictures), compose(layers, FaceState()))
 
 
 def test_every_preset_is_a_known_part():

@@ -8,7 +8,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from baxterface_cli import FaceState, Parts
-from baxterface_cli.core.tables import BROWS, MOUTHS, SKINS
+from baxterface_cli.core.face_constants import BROWS, MOUTHS, SKINS
 from baxterface_cli.drawing.renderer import PARTS_KEPT, Renderer, compose
 from baxterface_cli.drawing.theme import Theme
 

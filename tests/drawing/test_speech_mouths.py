@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 from baxterface_cli import Face, parse
+from baxterface_cli.core.face_constants import MOUTHS, VISEMES, viseme_mouth
 from baxterface_cli.core.face_state import FaceState, Parts
-from baxterface_cli.core.tables import MOUTHS, VISEMES, viseme_mouth
 from baxterface_cli.drawing import artwork, mouth_drawing
 from baxterface_cli.drawing.renderer import Renderer, compose
 from baxterface_cli.drawing.theme import OPTIONAL, Theme

@@ -17,7 +17,7 @@ from baxterface_cli.core.geometry import dynamic_look, to_pixels
 from baxterface_cli.engine import effects as fx
 from baxterface_cli.engine.compiler import compile_script
 from baxterface_cli.engine.effects import EffectHandler, EffectWords, StatusFold
-from baxterface_cli.ros.wire import COMMAND_TYPES, ros_commands
+from baxterface_cli.ros.effect_messages import COMMAND_TYPES, ros_commands
 from baxterface_cli.speech.synthesis import Phoneme, Utterance, Word
 from conftest import ROOT, baxterface
 
@@ -36,8 +36,8 @@ ONE_OF_EACH = [
     fx.HeadPan(0.3, speed=0.6, duration=0.5),
     fx.HeadNod(),
     fx.SetEnabled(True),
-    fx.Follow("left arm", dynamic=True),
-    fx.Exit(),
+    fx.SetFollowing("left arm", dynamic=True),
+    fx.ShutDown(),
     fx.Speech(HI),
 ]
 

@@ -6,6 +6,7 @@ import pytest
 
 from baxterface_cli import parse
 from baxterface_cli.core.expression import Expression
+from baxterface_cli.core.face_constants import EMOTIONS
 from baxterface_cli.core.face_state import FaceState, Parts
 from baxterface_cli.core.presets import (
     DEFAULT_FACE,
@@ -17,7 +18,6 @@ from baxterface_cli.core.presets import (
     nearest_parts,
     speech_mouth,
 )
-from baxterface_cli.core.tables import EMOTIONS
 from baxterface_cli.engine.compiler import compile_script
 from baxterface_cli.language import syntax_tree as n
 

@@ -34,7 +34,7 @@ def test_actions_are_handed_out_once_when_due():
     live.command("wait 1s; enable; follow human; wobble 0.3", now=0.0)
     assert live.due(0.5) == []
     effects = [c.effect for c in live.due(1.0)]
-    assert effects[:2] == [fx.SetEnabled(True), fx.Follow("human")]
+    assert effects[:2] == [fx.SetEnabled(True), fx.SetFollowing("human")]
     assert isinstance(effects[2], fx.HeadPan) and effects[2].target == pytest.approx(0.3)
     assert live.due(2.0) == []
     assert (live.robot.following, live.robot.follow_dynamic) == ("human", False)
@@ -67,7 +67,7 @@ def test_exit_marks_the_face_as_finished_on_the_sleep_face():
     live.command("happy; exit", now=0.0)
     end = live.timeline.duration
     assert not live.exited and live.due(end - 0.01) == []
-    assert [c.effect for c in live.due(end)] == [fx.Exit()] and live.exited
+    assert [c.effect for c in live.due(end)] == [fx.ShutDown()] and live.exited
     assert live.state(end).skin == sleep_face().skin
 
 

@@ -12,19 +12,29 @@ from baxterface_cli.engine import compiler
 from baxterface_cli.engine.compiler import COMPILE_STEPS, compile_script
 from baxterface_cli.language import syntax_tree as n
 from baxterface_cli.language.builder import _Builder, grammar
-from baxterface_cli.language.statements import KEYWORDS, KINDS, Kind, describe, statement_seconds
+from baxterface_cli.language.statements import (
+    KEYWORDS,
+    KINDS,
+    SESSION_KINDS,
+    Kind,
+    describe,
+    statement_seconds,
+)
 from baxterface_cli.language.vocabulary import BARE_WORDS
 
 
 def test_every_statement_node_has_a_kind_and_a_compile_step():
     nodes = {cls for cls in vars(n).values() if isinstance(cls, type) and issubclass(cls, n.Statement)}
-    assert nodes - {n.Statement, n.Block} == set(KINDS) == set(COMPILE_STEPS)
-    assert set(n.BLOCKS) == {n.Repeat, n.Together, n.Define}
+    # The compiler's statements, and the live session's (handlers, waits, signals, forever, one of),
+    # which it walks itself and never hands to the compiler (engine/session_program.py).
+    assert nodes - {n.Statement, n.Block} == set(KINDS) | set(SESSION_KINDS)
+    assert set(KINDS) == set(COMPILE_STEPS) and not set(KINDS) & set(SESSION_KINDS)
+    assert set(n.BLOCKS) == {n.Repeat, n.Together, n.Define, n.On, n.Forever, n.OneOf}
 
 
 def test_every_statement_can_be_written_and_its_words_are_the_grammars():
     grammar_words = {getattr(t.pattern, "value", "") for t in grammar().terminals}
-    for kind in KINDS.values():
+    for kind in [*KINDS.values(), *SESSION_KINDS.values()]:
         written = kind.words or ((kind.bare,) if kind.bare else ())
         assert written or kind.node is n.Call, f"{kind.node.__name__} has no words"
         assert set(kind.words) <= grammar_words, kind.node.__name__
@@ -36,7 +46,7 @@ def test_every_statement_can_be_written_and_its_words_are_the_grammars():
 
 
 def test_every_timed_move_says_how_long_it_takes_without_in_t():
-    for kind in KINDS.values():
+    for kind in [*KINDS.values(), *SESSION_KINDS.values()]:
         fields = {f.name for f in dataclasses.fields(kind.node)}
         assert ("timing" in fields) == (kind.move is not None or kind.node is n.Feeling), kind.node.__name__
     (look,) = parse("look left").body
@@ -95,3 +105,23 @@ def test_explain_lists_each_statement_as_a_script_writes_it(text):
     assert written == statement
     (span,) = compile_script(parse(text)).spans
     assert span.text == describe(statement)
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        "on face seen queue cooldown 5s { blink }",
+        "on button left ok interrupt { blink }",
+        'on word "hello there" { blink }',
+        "on every 2.5s { blink }",
+        'wait until word "hi" timeout 5s',
+        "wait until touch left eye",
+        "signal poke",
+    ],
+)
+def test_the_session_s_statements_are_described_as_a_script_writes_them(text):
+    (statement,) = parse(text).body
+    written = describe(statement)
+    assert text.startswith(written)
+    (again,) = parse(text.replace(written, written, 1)).body
+    assert again == statement

@@ -6,9 +6,9 @@ import time
 
 import pytest
 
+from baxterface_cli.core.face_constants import EMOTIONS
 from baxterface_cli.core.presets import emotion_preset
-from baxterface_cli.core.tables import EMOTIONS
-from baxterface_cli.engine.intake import Intake
+from baxterface_cli.engine.command_intake import Intake
 from baxterface_cli.engine.live_face import LiveFace
 
 

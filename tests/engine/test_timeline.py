@@ -7,8 +7,8 @@ import math
 import pytest
 
 from baxterface_cli import parse
+from baxterface_cli.core.face_constants import EMOTIONS
 from baxterface_cli.core.face_state import FaceState, Parts
-from baxterface_cli.core.tables import EMOTIONS
 from baxterface_cli.engine import effects as fx
 from baxterface_cli.engine.animation import Animation, Idle
 from baxterface_cli.engine.compiler import compile_script

@@ -12,7 +12,7 @@ import re
 
 import pytest
 
-from baxterface_cli.core.tables import LIMITS
+from baxterface_cli.core.face_constants import LIMITS
 from conftest import ROOT, baxterface
 
 pytestmark = pytest.mark.language

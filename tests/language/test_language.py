@@ -9,7 +9,7 @@ import sys
 import pytest
 
 from baxterface_cli import ScriptError, parse
-from baxterface_cli.core.tables import LIMITS
+from baxterface_cli.core.face_constants import LIMITS
 from baxterface_cli.language import syntax_tree as n
 from baxterface_cli.language.checker import measure
 from baxterface_cli.language.parser import grammar

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from baxterface_cli import ScriptError, parse
+from baxterface_cli.core.face_constants import EMOTIONS
 from baxterface_cli.core.presets import DEFAULT_FACE
-from baxterface_cli.core.tables import EMOTIONS
 from baxterface_cli.drawing.renderer import compose
 from baxterface_cli.drawing.theme import Theme
 from baxterface_cli.engine.compiler import compile_script

@@ -20,8 +20,9 @@ from lark.lexer import PatternStr
 
 from baxterface_cli import ScriptError, parse
 from baxterface_cli.cli.app import check_recordings
-from baxterface_cli.core.tables import BROWS, DIRECTIONS, MOUTHS
+from baxterface_cli.core.face_constants import BROWS, DIRECTIONS, MOUTHS
 from baxterface_cli.engine.compiler import compile_script
+from baxterface_cli.engine.session_run import reactive, run_over
 from baxterface_cli.engine.timeline import state_record
 from baxterface_cli.language.checker import measure
 from baxterface_cli.language.parser import decode, grammar
@@ -176,6 +177,13 @@ def test_what_parses_compiles_samples_and_explains(text):
     except ScriptError:
         return
     if measure(script.body, {})[1] > 5000:  # unrolled size, kept small for speed
+        return
+    if reactive(script):  # handlers, waits, signals: the live session runs them, here for 5 s
+        timeline = run_over(script, seed=1, duration=5.0).timeline
+        for t in (0.0, 2.5, 5.0, 6.0):
+            state_record(t, timeline.sample(t), timeline.status(t))
+        with pytest.raises(ScriptError):  # alone, the compiler refuses them, with a position
+            compile_script(script, seed=1)
         return
     timeline = compile_script(script, seed=1)
     for t in (0.0, timeline.duration / 3, timeline.duration, timeline.duration + 1.0):

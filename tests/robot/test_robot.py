@@ -101,11 +101,11 @@ def test_a_head_state_that_is_not_a_number_is_ignored():
 def test_following_a_hand_moves_the_eyes_smoothly_and_hands_them_back():
     robot = Wire().robot()
     face = FaceState()
-    robot.take(fx.Follow("left arm"), 0.0)
+    robot.take(fx.SetFollowing("left arm"), 0.0)
     robot.gaze.hands["left"] = (0.5, 0.5, 0.75)  # out to the robot's left, at face height
     xs = [robot.look(face, 0.1 * k).eye_x for k in range(30)]
     assert xs[0] > 0 and all(a < b for a, b in zip(xs, xs[1:])) and xs[-1] == pytest.approx(45, abs=0.5)
-    robot.take(fx.Follow(None), 3.0)
+    robot.take(fx.SetFollowing(None), 3.0)
     assert robot.look(face, 3.0).eye_x == pytest.approx(xs[-1])  # no jump
     assert 0 < robot.look(face, 3.25).eye_x < xs[-1]
     assert robot.look(face, 3.5).eye_x == 0.0  # the script's eyes again
@@ -114,7 +114,7 @@ def test_following_a_hand_moves_the_eyes_smoothly_and_hands_them_back():
 def test_following_a_person_on_sonar_recentres_when_they_walk_out_of_the_eyes_reach():
     wire = Wire()
     robot = wire.robot()
-    robot.take(fx.Follow("human", dynamic=True), 0.0)
+    robot.take(fx.SetFollowing("human", dynamic=True), 0.0)
     for k in range(60):  # someone far to the robot's left, on sensor 9
         assert robot.heard_sonar([9, 10], [1.0, 1.1]) is None
         robot.look(FaceState(), 0.03 * k)
@@ -128,7 +128,7 @@ def test_following_dynamically_while_disabled_moves_only_the_eyes():
     wire = Wire()
     robot = wire.robot()
     robot.heard_enabled(False)
-    robot.take(fx.Follow("left arm", dynamic=True), 0.0)
+    robot.take(fx.SetFollowing("left arm", dynamic=True), 0.0)
     robot.gaze.hands["left"] = (0.2, 0.6, 0.75)  # far to the left: beyond the eyes' reach
     for k in range(40):
         face = robot.look(FaceState(), 0.03 * k)
@@ -157,7 +157,7 @@ def test_following_a_face_looks_where_the_camera_sees_it_and_back_at_the_script_
     robot = Robot(lambda effect: None, camera=FakeCamera)
     robot.heard_image((30.0, -20.0), 0.0)  # not following a face: ignored
     assert robot.gaze.face is None and robot.gaze.seen is None
-    robot.take(fx.Follow("face"), 0.0)
+    robot.take(fx.SetFollowing("face"), 0.0)
     assert robot.camera.started == 1
     robot.heard_image((30.0, -20.0), 0.0)  # up and to the robot's left
     for k in range(40):
@@ -167,7 +167,7 @@ def test_following_a_face_looks_where_the_camera_sees_it_and_back_at_the_script_
     for k in range(40):
         face = robot.look(FaceState(eye_x=-50.0), 1.4 + k / 30)
     assert (face.eye_x, face.eye_y) == pytest.approx((-50.0, 0.0), abs=0.1) and robot.gaze.seen is False
-    robot.take(fx.Follow("human"), 3.0)
+    robot.take(fx.SetFollowing("human"), 3.0)
     assert robot.camera.stopped == 1 and not robot.gaze.wants_camera
 
 
@@ -175,7 +175,7 @@ def test_following_a_face_dynamically_turns_the_head_from_where_the_camera_point
     wire = Wire()
     robot = Robot(wire.sent.append, camera=FakeCamera)
     robot.heard_head(0.2)
-    robot.take(fx.Follow("face", dynamic=True), 0.0)
+    robot.take(fx.SetFollowing("face", dynamic=True), 0.0)
     robot.heard_image((20.0, 0.0), 0.0)  # 20 eye pixels left of where the head (and camera) points
     robot.look(FaceState(), 0.0)
     (pan,) = [e for e in wire.sent if isinstance(e, fx.HeadPan)]
@@ -191,7 +191,7 @@ def test_a_face_cannot_be_followed_without_opencv_and_the_robot_says_so():
             hand_to, "following a face needs the 'cv2' module: pip install ..."
         ),
     )
-    robot.take(fx.Follow("face"), 0.0)
+    robot.take(fx.SetFollowing("face"), 0.0)
     assert wire.warnings == ["not following a face: following a face needs the 'cv2' module: pip install ..."]
     assert robot.gaze.target is None
 

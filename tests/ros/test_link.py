@@ -23,17 +23,16 @@ PUBLISHER = textwrap.dedent(
     """
     import sys, time
     from baxterface_cli.ros.connect import open_link
-    link = open_link(2, "talker", ["--ros-args", "-r", "display_chatter:=/elsewhere/chatter"])
-    chatter = link.publisher("display_chatter", "std_msgs/String", queue=0)
-    state = link.publisher("~state", "std_msgs/String", latched=True, queue=1)
-    state.publish(data="kept for latecomers")
-    while chatter.listeners() == 0:
-        time.sleep(0.01)
-    chatter.publish(data=sys.argv[1])
-    assert chatter.wait_delivered(10.0)
-    print(chatter.topic, state.topic, flush=True)
-    sys.stdin.read()  # stays, its state latched, until the test closes its input
-    link.close()
+    with open_link(2, "talker", ["--ros-args", "-r", "display_chatter:=/elsewhere/chatter"]) as link:
+        chatter = link.publisher("display_chatter", "std_msgs/String", queue=0)
+        state = link.publisher("~state", "std_msgs/String", latched=True, queue=1)
+        state.publish(data="kept for latecomers")
+        while chatter.listeners() == 0:
+            time.sleep(0.01)
+        chatter.publish(data=sys.argv[1])
+        assert chatter.wait_delivered(10.0)
+        print(chatter.topic, state.topic, flush=True)
+        sys.stdin.read()  # stays, its state latched, until the test closes its input
     """
 )
 
@@ -111,8 +110,7 @@ def test_parameters_names_and_types_through_the_link(ros2):
         "-r",
         "__node:=face2",
     ]
-    link = open_link(2, "baxter_face", argv)
-    try:
+    with open_link(2, "baxter_face", argv) as link:
         assert link.name == "/face2"
         assert (link.param("fps", 30.0), link.param("size", "x"), link.param("idle", True)) == (
             20,
@@ -124,6 +122,4 @@ def test_parameters_names_and_types_through_the_link(ros2):
         assert link.has("std_msgs/String") and link.has("sensor_msgs/Image")
         assert not link.has("baxter_core_msgs/HeadPanCommand")  # Baxter's own: not on PyPI
         assert link.ok()
-    finally:
-        link.close()
-    assert not link.ok()
+    assert not link.ok()  # the block's end left ROS

@@ -24,7 +24,7 @@ from pathlib import Path
 
 import pytest
 
-from baxterface_cli.core.tables import LIMITS
+from baxterface_cli.core.face_constants import LIMITS
 from conftest import ROOT, baxterface, free_port
 from playing import paced
 

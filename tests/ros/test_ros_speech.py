@@ -21,9 +21,9 @@ import wave
 
 import pytest
 
+from baxterface_cli.ros.effect_messages import PLAY_ONCE, PLAY_STOP, SOUND_PLAY_FILE, SOUND_SAY
 from baxterface_cli.ros.messages import DEFINITIONS, message_class
 from baxterface_cli.ros.speakers import DEFAULT_AUDIO
-from baxterface_cli.ros.wire import PLAY_ONCE, PLAY_STOP, SOUND_PLAY_FILE, SOUND_SAY
 from conftest import ROOT, baxterface
 
 pytestmark = pytest.mark.ros
@@ -393,8 +393,8 @@ def run_frames(folder):
 
 
 CRASHES_ESPEAK = """
-from baxterface_cli.speech.espeak import _library, synthesize
-synthesize(_library()[0], "1234567890", "kl", 175)
+from baxterface_cli.speech.espeak import espeak_library, synthesize
+synthesize(espeak_library()[0], "1234567890", "kl", 175)
 """
 
 

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from baxterface_cli.core.tables import EMOTIONS
+from baxterface_cli.core.face_constants import EMOTIONS
 from baxterface_cli.screen.screen_face import ScreenFace
 
 

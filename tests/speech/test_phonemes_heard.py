@@ -15,7 +15,7 @@ import pytest
 from test_recordings import blocked_env
 
 from baxterface_cli import parse
-from baxterface_cli.core.tables import REST
+from baxterface_cli.core.face_constants import REST
 from baxterface_cli.engine.compiler import compile_script
 from baxterface_cli.speech.soundtrack import write_wav
 from baxterface_cli.speech.synthesis import Phoneme, Utterance

@@ -20,7 +20,7 @@ import numpy as np
 import pytest
 
 from baxterface_cli import parse
-from baxterface_cli.core.tables import REST
+from baxterface_cli.core.face_constants import REST
 from baxterface_cli.engine.compiler import compile_script
 from baxterface_cli.language.diagnostics import ScriptError
 from baxterface_cli.speech.soundtrack import write_wav
@@ -268,7 +268,7 @@ def test_a_confined_folder_refuses_paths_that_leave_it(recorded, tmp_path):
 
 
 def test_the_live_face_reads_no_recording_unless_given_a_folder(recorded):
-    from baxterface_cli.engine.intake import Intake
+    from baxterface_cli.engine.command_intake import Intake
     from baxterface_cli.engine.live_face import LiveFace
     from baxterface_cli.speech.recordings import Recordings
 
@@ -288,7 +288,7 @@ def test_the_live_face_reads_no_recording_unless_given_a_folder(recorded):
 
 def test_a_bag_asks_sound_play_to_play_the_recording_file(aligned):
     from baxterface_cli.engine.effects import Speech
-    from baxterface_cli.ros.wire import SOUND_PLAY_FILE, SOUND_TOPIC, ros_commands
+    from baxterface_cli.ros.effect_messages import SOUND_PLAY_FILE, SOUND_TOPIC, ros_commands
 
     (command,) = ros_commands(Speech(aligned.utterance))
     assert command.topic == SOUND_TOPIC

@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from baxterface_cli import ScriptError, parse
-from baxterface_cli.core.tables import LIMITS, VISEMES, viseme_mouth
+from baxterface_cli.core.face_constants import LIMITS, VISEMES, viseme_mouth
 from baxterface_cli.engine.compiler import compile_script
 from baxterface_cli.engine.effects import Speech
 from baxterface_cli.language import syntax_tree as n

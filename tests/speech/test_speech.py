@@ -258,4 +258,4 @@ def test_without_the_library_the_error_says_how_to_install_it(monkeypatch):
     monkeypatch.setattr(espeak, "_found", None)
     # As the speech process finds the library (a whole engine's, without it: test_say.py).
     with pytest.raises(MissingTool, match="apt install espeak-ng"):
-        espeak._library()
+        espeak.espeak_library()

@@ -245,7 +245,7 @@ def test_a_recording_heard_without_text_does_not_rest_inside_continuous_speech(t
     pytest.importorskip("av")
     if ESPEAK is None:
         pytest.skip("needs espeak-ng")
-    from baxterface_cli.core.tables import REST
+    from baxterface_cli.core.face_constants import REST
     from baxterface_cli.speech.phone_names import frame_loudness
     from baxterface_cli.speech.recordings import Recordings
 

@@ -27,8 +27,8 @@ from waiting import eventually
 CRASHING = ("1234567890", "kl")
 IN_PROCESS = """
 import sys
-from baxterface_cli.speech.espeak import _library, synthesize
-synthesize(_library()[0], sys.argv[1], sys.argv[2], 175)
+from baxterface_cli.speech.espeak import espeak_library, synthesize
+synthesize(espeak_library()[0], sys.argv[1], sys.argv[2], 175)
 """
 
 
@@ -71,7 +71,7 @@ def test_a_crash_fails_that_say_alone_and_the_next_say_speaks(crashing):
 )
 def test_the_speech_process_gives_what_the_library_gives_in_this_process(engine, text, voice, rate):
     """The sound sample for sample, and every event, as libespeak-ng says it here."""
-    path = espeak._library()[0]
+    path = espeak.espeak_library()[0]
     here = espeak.synthesize(path, text, voice, rate)
     process = EspeakProcess()
     try:

@@ -11,7 +11,7 @@ from typing import List, Tuple
 import numpy as np
 import pytest
 
-from baxterface_cli.core.tables import REST, VISEMES
+from baxterface_cli.core.face_constants import REST, VISEMES
 from baxterface_cli.speech.synthesis import Phoneme, Utterance, Word
 from baxterface_cli.speech.visemes import (
     CLOSURES,

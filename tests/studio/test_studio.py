@@ -195,7 +195,7 @@ def test_the_preview_says_what_is_heard_while_it_plays(engine):
 def test_the_mood_pad_and_the_slider_are_offered_what_the_language_takes(tmp_path):
     """The page's mood pad and intensity slider: their emotions and circle come from the tables,
     and what they send is a press like any other, logged as the line it was."""
-    from baxterface_cli.core.tables import EMOTIONS
+    from baxterface_cli.core.face_constants import EMOTIONS
     from baxterface_cli.studio.workspace import Workspace, feelings
 
     offered = feelings()

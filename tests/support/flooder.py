@@ -13,7 +13,7 @@ import time
 import rospy
 from std_msgs.msg import String
 
-from baxterface_cli.core.tables import LIMITS
+from baxterface_cli.core.face_constants import LIMITS
 
 MOVING = "repeat 100 { look 60 0 in 1s; look -60 0 in 1s }"  # every frame differs, for minutes
 LINE = "look 40 -20 in 0.05s; look -40 20 in 0.05s\n"

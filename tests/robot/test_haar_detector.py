@@ -9,7 +9,7 @@ import shutil
 import numpy as np
 import pytest
 
-from baxterface_cli.robot import face_cascades as fc
+from baxterface_cli.robot import haar_detector as fc
 from conftest import needs
 
 

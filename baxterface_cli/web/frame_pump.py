@@ -19,7 +19,7 @@ from typing import Any, Callable, Dict, List, Optional, Protocol, Set
 import numpy as np
 
 from ..drawing.renderer import Renderer
-from ..engine.first_motion import FirstMotion
+from ..engine.change_polling import FirstMotion
 
 STATUS_EVERY = 0.1  # seconds between status messages to the page
 DISK_EVERY = 0.5  # seconds between looks at the script and the panel on disk

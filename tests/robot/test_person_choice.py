@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import pytest
 
-from baxterface_cli.robot.face_cascades import Box
-from baxterface_cli.robot.face_choice import FACE_POLICIES, FaceChoice, Person, check_face_policy
+from baxterface_cli.robot.haar_detector import Box
+from baxterface_cli.robot.person_choice import FACE_POLICIES, Person, PersonChoice, check_face_policy
 
 W, H = 640, 400
 
@@ -20,12 +20,14 @@ def test_each_policy_chooses_its_face_among_three():
     early = person(500, 250, 30, first=0.0)  # seen first, off the middle, small
     near = person(150, 170, 46, first=0.6)  # the largest: the nearest person
     middle = person(330, 200, 32, first=0.6)  # the most central
-    chosen = {policy: FaceChoice(policy).choose([early, near, middle], 1.0, W, H) for policy in FACE_POLICIES}
+    chosen = {
+        policy: PersonChoice(policy).choose([early, near, middle], 1.0, W, H) for policy in FACE_POLICIES
+    }
     assert chosen == {"nearest": near, "central": middle, "longest": early}
 
 
 def test_a_clearly_nearer_face_takes_over_after_a_tenth_of_a_second_and_a_little_nearer_one_never():
-    choice = FaceChoice("nearest")
+    choice = PersonChoice("nearest")
     first, other = person(200, 200, 40), person(450, 200, 44)  # 1.21 times the area: not clearly
     assert choice.choose([first], 0.0, W, H) is first
     for k in range(30):
@@ -36,7 +38,7 @@ def test_a_clearly_nearer_face_takes_over_after_a_tenth_of_a_second_and_a_little
 
 
 def test_a_rival_that_is_clearly_better_only_now_and_then_never_takes_over():
-    choice = FaceChoice("nearest")
+    choice = PersonChoice("nearest")
     first, big, small = person(200, 200, 40), person(450, 200, 50), person(450, 200, 41)
     choice.choose([first], 0.0, W, H)
     for k in range(60):  # clearly nearer in every other image: never for a tenth of a second
@@ -44,10 +46,10 @@ def test_a_rival_that_is_clearly_better_only_now_and_then_never_takes_over():
 
 
 def test_central_switches_when_another_is_nearer_the_middle_by_more_than_a_face():
-    choice = FaceChoice("central")
+    choice = PersonChoice("central")
     followed, other = person(250, 200, 30), person(380, 200, 30)  # 70 and 60 px off the middle
     assert choice.choose([followed, other], 0.0, W, H) is other
-    choice = FaceChoice("central")
+    choice = PersonChoice("central")
     assert choice.choose([followed], 0.0, W, H) is followed
     for k in range(1, 10):
         assert choice.choose([followed, other], k / 30, W, H) is followed  # 10 px: not a face's width
@@ -56,7 +58,7 @@ def test_central_switches_when_another_is_nearer_the_middle_by_more_than_a_face(
 
 
 def test_longest_keeps_the_face_while_it_is_seen_then_takes_the_next_oldest():
-    choice = FaceChoice("longest")
+    choice = PersonChoice("longest")
     old, newer, newest = (
         person(100, 200, 24, first=0.0),
         person(300, 200, 60, first=1.0),
@@ -67,12 +69,12 @@ def test_longest_keeps_the_face_while_it_is_seen_then_takes_the_next_oldest():
 
 
 def test_only_confirmed_faces_are_followed_and_a_better_one_about_to_be_is_waited_for():
-    choice = FaceChoice("nearest")
+    choice = PersonChoice("nearest")
     small, large = person(200, 200, 30), person(450, 200, 60, first=0.0, sure=False)
     assert choice.choose([small, large], 0.1, W, H) is None  # the larger may be confirmed soon
     assert choice.choose([small, large], 0.35, W, H) is small  # it was not: take what there is
     large.sure = True
-    choice = FaceChoice("nearest")
+    choice = PersonChoice("nearest")
     assert choice.choose([small, large], 0.4, W, H) is large
 
 
@@ -95,4 +97,4 @@ def test_a_face_is_confirmed_by_two_strict_checks_passed_at_least_as_often_as_fa
 def test_a_policy_that_does_not_exist_is_a_value_error_naming_the_three():
     assert check_face_policy("central") == "central"
     with pytest.raises(ValueError, match="nearest, central or longest, not 'tallest'"):
-        FaceChoice("tallest")
+        PersonChoice("tallest")

@@ -89,7 +89,7 @@ def _sizes(low: float, high: float, step: float) -> List[float]:
     return sizes
 
 
-def _canvas(width: float, height: float, turn: float) -> Tuple[int, int]:
+def turned_size(width: float, height: float, turn: float) -> Tuple[int, int]:
     """The size of the image `width` x `height` turned by `turn` degrees, whole."""
     c, s = abs(math.cos(math.radians(turn))), abs(math.sin(math.radians(turn)))
     return int(math.ceil(width * c + height * s)), int(math.ceil(width * s + height * c))
@@ -241,7 +241,7 @@ class Cascades:
         for size in job.sizes:
             r = WINDOW / size
             w, h = width * r, height * r
-            cw, ch = _canvas(w, h, job.turn)
+            cw, ch = turned_size(w, h, job.turn)
             # The windows whose tops lie in the job's rows of the (shrunk, turned) image, and a
             # few more, so that a face on the edge between two bands is whole in one of them.
             top = int(job.rows[0] * ch)

@@ -14,6 +14,7 @@ import threading
 from collections import deque
 from typing import Callable, Deque, List, NamedTuple, Optional, Tuple
 
+from ..closing import ClosedOnExit
 from ..extras import MissingTool
 from ..language.diagnostics import Diagnostic, ScriptError
 from ..language.parser import parse
@@ -33,7 +34,7 @@ class Prepared(NamedTuple):
     generation: int  # queued ones from before the latest take-over are stale
 
 
-class Intake:
+class Intake(ClosedOnExit):
     """Command texts in (from any thread); prepared timelines out, for the loop."""
 
     def __init__(

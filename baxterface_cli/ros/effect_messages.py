@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from typing import Any, Dict, List, NamedTuple
 
-from ..engine.effects import EffectHandler, Exit, Follow, HeadNod, HeadPan, SetEnabled, Speech
+from ..engine.effects import EffectHandler, HeadNod, HeadPan, SetEnabled, SetFollowing, ShutDown, Speech
 
 HEAD_PAN_TOPIC = "/robot/head/command_head_pan"
 HEAD_NOD_TOPIC = "/robot/head/command_head_nod"
@@ -53,10 +53,10 @@ class _ToRos(EffectHandler):
     def set_enabled(self, effect: SetEnabled, at: float) -> List[RosCommand]:
         return [RosCommand(ENABLE_TOPIC, {"data": effect.enabled})]
 
-    def follow(self, effect: Follow, at: float) -> List[RosCommand]:
+    def follow(self, effect: SetFollowing, at: float) -> List[RosCommand]:
         return []  # following happens on the face, from sensors
 
-    def exit(self, effect: Exit, at: float) -> List[RosCommand]:
+    def exit(self, effect: ShutDown, at: float) -> List[RosCommand]:
         return []
 
     def speech(self, effect: Speech, at: float) -> List[RosCommand]:

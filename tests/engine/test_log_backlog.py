@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import threading
 
-from baxterface_cli.engine.backlog import Backlog
+from baxterface_cli.engine.log_backlog import Backlog
 
 
 def test_logging_returns_at_once_while_the_writer_is_stuck_and_every_line_comes_out_in_order():

@@ -1,7 +1,7 @@
 """Which of the faces the camera sees the eyes follow: the people seen, and the policy that chooses.
 
 Each face the follower tracks is a `Person`: where it is (filtered), since when
-it has been seen, when it last passed the check. The `FaceChoice` picks one of
+it has been seen, when it last passed the check. The `PersonChoice` picks one of
 the confirmed people by a policy, with hysteresis so that two faces that are
 about as good never swap the eyes between them:
 
@@ -20,7 +20,7 @@ import math
 from dataclasses import dataclass
 from typing import List, Optional, Sequence, Tuple
 
-from .face_cascades import Box, same_face
+from .haar_detector import Box, same_face
 
 FACE_POLICIES = ("nearest", "central", "longest")
 DEFAULT_FACE_POLICY = "nearest"
@@ -95,7 +95,7 @@ class Person:
         self.found_now = True
 
 
-class FaceChoice:
+class PersonChoice:
     """The policy (one of FACE_POLICIES) and its hysteresis: which person the eyes follow."""
 
     SWITCH_AREA = 1.3  # for `nearest`: another face's area must be this much larger ...
