@@ -41,8 +41,21 @@ def test_show_is_15_to_30_seconds_and_uses_most_of_the_language():
 
 @pytest.mark.parametrize("path", EXAMPLES, ids=[p.name for p in EXAMPLES])
 def test_every_example_explains_and_renders_as_a_user_would(path, tmp_path):
-    explained = baxterface("explain", str(path))
+    events = path.with_suffix(".events")  # a script that reacts ships the events its README shows
+    given = ["--events", str(events)] if events.exists() else []
+    explained = baxterface("explain", str(path), *given)
     assert explained.code == 0 and explained.err == "", explained.err
     assert explained.out.startswith(f"{path}: ")
-    rendered = baxterface("render", str(path), "--out", str(tmp_path / "last.png"), "--quiet")
+    rendered = baxterface("render", str(path), *given, "--out", str(tmp_path / "last.png"), "--quiet")
     assert rendered.code == 0 and (tmp_path / "last.png").stat().st_size > 0, rendered.err
+
+
+def test_the_greeter_reacts_to_each_of_its_events():
+    path = EXAMPLES[[p.name for p in EXAMPLES].index("greeter.face")]
+    explained = baxterface("explain", str(path), "--events", str(path.with_suffix(".events")))
+    assert explained.code == 0, explained.err
+    for handler in ("on person near", "on face seen", 'on word "hello"', "on touch", "on person gone"):
+        assert f"'{handler}' runs" in explained.out, handler
+    assert "'on idle 30s' runs" in explained.out  # nobody came by for half a minute: bored, asleep
+    assert "robot follow human" in explained.out and "robot follow off" in explained.out
+    assert "sleep" in explained.out.split("'on idle 30s' runs")[1]

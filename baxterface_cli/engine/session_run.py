@@ -1,0 +1,92 @@
+"""A live session run over an events file, for `render`, `play` and `explain --events`.
+
+The session (live_session.py) takes the file's events at their times, on a clock of its own, so
+the same script, events and seed give the same timelines and the same frames, to the bit.
+
+How long it lasts: `duration` if given. Otherwise until the session comes to rest after the file's
+last event (no handler running or queued, and the main script done, in a `forever`, or waiting
+for an event the file does not bring), and the face has finished moving. A script that reaches
+a `forever` with no events to react to would never end, and must be given a duration.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, List, NamedTuple, Optional
+
+from ..core.face_constants import LIMITS
+from ..language import syntax_tree as n
+from ..language.checker import walk
+from ..language.event_trace import Trace
+from ..language.script_length import in_words
+from .live_session import LiveSession, Logged
+from .session_program import first_reacting
+from .stitched import Stitched
+
+if TYPE_CHECKING:
+    from ..speech.recordings import Recordings
+
+
+class NeverRests(Exception):
+    """The run does not come to rest by itself: it needs a duration. The message says why, in one line."""
+
+
+class SessionRun(NamedTuple):
+    timeline: Stitched
+    log: List[Logged]
+    session: LiveSession
+
+
+def reactive(script: n.Script) -> bool:
+    """Does `script` need the session: a handler, a wait, a signal, `forever` or `one of`?"""
+    return first_reacting(script) is not None
+
+
+def run_over(
+    script: n.Script,
+    trace: Optional[Trace] = None,
+    seed: Optional[int] = 0,
+    duration: Optional[float] = None,
+    crossfade: Optional[float] = None,
+    recordings: Optional[Recordings] = None,
+) -> SessionRun:
+    """Run `script` with the events of `trace` (none if None) for `duration` seconds, or until it
+    rests (see the module's docstring); NeverRests if it would not."""
+    session = LiveSession(
+        script, seed=seed, idle=False, recordings=recordings, crossfade=crossfade, record=True, log_lines=None
+    )
+    events = trace.events if trace is not None else ()
+    limit = LIMITS.max_seconds if duration is None else duration
+    for posted in events:
+        if posted.at > limit:
+            break
+        session.post(posted.event, posted.at, f"{trace.filename}:{posted.line}")  # type: ignore[union-attr]
+    if duration is not None:
+        session.advance(duration)
+        end = duration
+    else:
+        last = trace.end if trace is not None else 0.0
+        session.advance(last)
+        end = _rest(session, script, bool(events))
+    segments = session.segments or []
+    if duration is None:
+        start, timeline = segments[-1]
+        end = max(end, start + timeline.duration)
+    return SessionRun(Stitched(segments, end), list(session.log), session)
+
+
+def _rest(session: LiveSession, script: n.Script, evented: bool) -> float:
+    """When the session comes to rest, stepping it from its clock."""
+    while not session.resting:
+        due = session.next_due()
+        if due is None:
+            break
+        if due[0] > LIMITS.max_seconds:
+            raise NeverRests(
+                f"the script does not come to rest within {in_words(LIMITS.max_seconds)}; give --duration"
+            )
+        session.advance(due[0])
+    main = session.main
+    if main is not None and not main.done and main.runner.forever and not session.exited and not evented:
+        line = next((s.pos.line for s in walk(script.body) if isinstance(s, n.Forever)), 0)
+        raise NeverRests(f"'forever' on line {line} never ends and no events come to end it; give --duration")
+    return session.clock

@@ -1,0 +1,118 @@
+"""The timelines a session played, one after another, as one timeline: what `render`, `play` and
+`explain` take from a session run over an events file.
+
+Each timeline plays from its start until the next one starts; it is sampled exactly as it would
+be alone, at the time since its start. What it had not yet done when the next one took over is
+left out: its later cues, its words and sound past the cut.
+"""
+
+from __future__ import annotations
+
+import bisect
+import dataclasses
+from typing import Any, List, Sequence, Tuple
+
+from ..core.face_state import FaceState
+from .effects import Cue, RobotStatus, StatusFold
+from .timeline import Said, Span, Timeline
+
+Segments = Sequence[Tuple[float, Timeline]]
+
+
+class _Joined:
+    """One track (eyes or lids) across the segments: what the idle layer asks of a track."""
+
+    def __init__(self, stitched: Stitched, name: str) -> None:
+        self.stitched = stitched
+        self.name = name
+
+    def value(self, t: float) -> Any:
+        start, timeline, _ = self.stitched.segment(t)
+        return getattr(timeline, self.name).value(t - start)
+
+    def busy(self, start: float, end: float) -> bool:
+        for begin, timeline, stop in self.stitched.overlapping(start, end):
+            a, b = max(start, begin), min(end, stop)
+            if getattr(timeline, self.name).busy(a - begin, b - begin):
+                return True
+        return False
+
+
+class Stitched:
+    """Timelines, each from its start until the next's, as one (see the module's docstring)."""
+
+    def __init__(self, segments: Segments, duration: float) -> None:
+        if not segments:
+            raise ValueError("a stitched timeline needs a timeline")
+        self.segments = list(segments)
+        self.starts = [start for start, _ in self.segments]
+        self.stops = self.starts[1:] + [float("inf")]
+        self.duration = duration
+        self.initial: FaceState = self.segments[0][1].initial
+        self.cues: List[Cue] = []
+        self.speech: List[Said] = []
+        self.spans: List[Span] = []
+        self.parts: List[Any] = []
+        for (start, timeline), stop in zip(self.segments, self.stops):
+            stop = min(stop, duration)
+            self.cues += [Cue(start + c.at, c.effect) for c in timeline.cues if start + c.at <= stop]
+            self.parts += [c._replace(at=start + c.at) for c in timeline.parts if start + c.at < stop]
+            for span in timeline.spans:
+                if start + span.start <= stop:
+                    cut = start + span.end > stop
+                    text = span.text + (" (stopped)" if cut else "")
+                    self.spans.append(Span(start + span.start, min(stop, start + span.end), span.line, text))
+            self.speech += [
+                cut_short(said, start, stop) for said in timeline.speech if start + said.at < stop
+            ]
+        self.eyes = _Joined(self, "eyes")
+        self.lids = _Joined(self, "lids")
+        self._speech_times = [said.at for said in self.speech]
+
+    def segment(self, t: float) -> Tuple[float, Timeline, float]:
+        """The timeline playing at `t`: (its start, it, the next's start)."""
+        i = max(0, bisect.bisect_right(self.starts, t) - 1)
+        return self.starts[i], self.segments[i][1], self.stops[i]
+
+    def overlapping(self, start: float, end: float) -> List[Tuple[float, Timeline, float]]:
+        first = max(0, bisect.bisect_right(self.starts, start) - 1)
+        last = bisect.bisect_left(self.starts, end)
+        return [
+            (self.starts[i], self.segments[i][1], self.stops[i]) for i in range(first, max(first + 1, last))
+        ]
+
+    def sample(self, t: float) -> FaceState:
+        start, timeline, _ = self.segment(t)
+        return timeline.sample(t - start)
+
+    def mood_at(self, t: float) -> Tuple[float, float]:
+        start, timeline, _ = self.segment(t)
+        return timeline.mood_at(t - start)
+
+    def sounding(self, t: float) -> List[Said]:
+        i = bisect.bisect_right(self._speech_times, t)
+        return [said for said in self.speech[:i] if t < said.end]
+
+    def status(self, t: float, start: Any = None) -> RobotStatus:
+        fold = StatusFold(start)
+        for cue in self.cues:
+            if cue.at > t:
+                break
+            cue.effect.visit(fold, cue.at)
+        return fold.status
+
+
+def cut_short(said: Said, start: float, stop: float) -> Said:
+    """`said` (of a timeline started at `start`) on the stitched clock, its sound and words ending
+    at `stop`."""
+    utterance = said.utterance
+    left = stop - (start + said.at)
+    if left < utterance.duration:
+        keep = max(0, int(left * utterance.sample_rate))
+        utterance = dataclasses.replace(
+            utterance,
+            samples=utterance.samples[:keep],
+            words=tuple(w for w in utterance.words if w.at < left),
+            phonemes=tuple(p for p in utterance.phonemes if p.at < left),
+        )
+    return said._replace(at=start + said.at, utterance=utterance)

@@ -1,0 +1,102 @@
+"""`render`, `explain` and `play` with `--events FILE`, as a user runs them: the same script,
+events and seed make the same frames, explain says which handler ran and what it dropped, and
+what cannot run is refused in one line."""
+
+from __future__ import annotations
+
+import pytest
+
+from baxterface_cli.engine.live_face import LiveFace
+from baxterface_cli.language.diagnostics import ScriptError
+from conftest import baxterface
+
+SCRIPT = """\
+sleep
+wait until button ok
+wake up
+on face seen { happy; one of { wink left | wink right | nod } }
+on touch interrupt { look left in 0.5s; look right in 0.5s }
+forever { look 20 0 in 1s; look -20 0 in 1s }
+"""
+EVENTS = """\
+# someone comes and goes
+1 button ok
+2.5 face seen
+2.8 face seen
+3 touch mouth
+"""
+
+
+@pytest.fixture
+def files(tmp_path):
+    (tmp_path / "s.face").write_text(SCRIPT)
+    (tmp_path / "s.events").write_text(EVENTS)
+    return tmp_path
+
+
+def test_the_same_script_events_and_seed_render_the_same_frames_to_the_bit(files):
+    outs = []
+    for name in ("a.gif", "b.gif"):
+        args = ("render", "s.face", "--events", "s.events", "--seed", "7", "--size", "128x75", "--fps", "10")
+        run = baxterface(*args, "--out", name, "-q", cwd=files)
+        assert run.code == 0, run.err
+        outs.append((files / name).read_bytes())
+    assert outs[0] == outs[1]
+    assert len(outs[0]) > 1000
+
+
+def test_explain_shows_each_event_which_handler_ran_and_what_it_dropped(files):
+    run = baxterface("explain", "s.face", "--events", "s.events", cwd=files)
+    assert run.code == 0, run.err
+    lines = run.out.splitlines()
+    assert lines[0].startswith("s.face: ")
+    react = [line.split(None, 3)[-1] for line in lines if " react " in line]
+    assert react[:8] == [
+        "event button ok (s.events:2)",
+        "event face seen (s.events:3)",
+        "line 4 'on face seen' runs",
+        "event face seen (s.events:4)",
+        "dropped face seen: line 4 'on face seen' is running",
+        "event touch mouth (s.events:5)",
+        "line 4 'on face seen' interrupted",
+        "line 5 'on touch' runs",
+    ]
+    assert react[8:] == ["line 5 'on touch' ends", "main script goes on"]  # in its forever: at rest
+
+
+def test_a_bad_events_file_is_told_where_like_a_script(files):
+    (files / "bad.events").write_text("1 face seen\n2 fase seen\n")
+    run = baxterface("render", "s.face", "--events", "bad.events", "--out", "x.gif", cwd=files)
+    assert run.code == 1
+    assert run.err.splitlines()[0] == "bad.events:2:3: error: unknown event 'fase'; did you mean 'face'?"
+    assert not (files / "x.gif").exists()
+
+
+def test_forever_without_events_needs_a_duration(files):
+    (files / "f.face").write_text("forever { look left in 1s; look right in 1s }\n")
+    run = baxterface("explain", "f.face", cwd=files)
+    assert run.code == 2
+    assert "'forever' on line 1 never ends and no events come to end it; give --duration" in run.err
+    run = baxterface("explain", "f.face", "--duration", "3", cwd=files)
+    assert run.code == 0 and run.out.startswith("f.face: 3.00 s"), run.err
+
+
+def test_play_refuses_handlers_without_events(files):
+    run = baxterface("play", "s.face", "--terminal", cwd=files)
+    assert run.code == 2
+    assert run.err.strip() == (
+        "baxterface play: s.face:4: the script has handlers; "
+        "give --events FILE (play's window raises no events yet)"
+    )
+
+
+def test_the_live_ends_refuse_a_script_that_reacts_in_one_line():
+    face = LiveFace()
+    with pytest.raises(ScriptError) as caught:
+        face.command("blink\non face seen { nod }", 1.0)
+    assert caught.value.summary() == (
+        "display_chatter:2:1: error: 'on face seen' runs in render, play and explain (with --events FILE); "
+        "a live face (the node, the screen, the studio) does not run handlers, waits, signals, 'forever' "
+        "or 'one of' yet"
+    )
+    face.command("blink", 1.0)  # and goes on taking what it can run
