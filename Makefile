@@ -178,6 +178,8 @@ theme: venv
 pictures: venv
 	$(BIN)/python docs/make_pictures.py
 	$(BIN)/baxterface render scripts_examples/hello.face --out docs/images/hello.gif --size 512x300 --fps 20
+	$(BIN)/baxterface render scripts_examples/greeter.face --events scripts_examples/greeter.events \
+		--out docs/images/greeter.gif --size 256x150 --fps 8
 
 # The benchmarks whose figures are in the README.
 bench: venv venv-ros
