@@ -13,8 +13,9 @@ parts of at most `PART_PRESSES` presses, each compiled (as that part's
 script) from the face and robot status the part before left. A part ends
 where the face has come to rest, nothing under way, so the next starts from
 exactly that face; only a flood of overlapping presses, `PART_MOST` of them
-without a pause, is cut where it is (the moves under way stop where they have
-got to).
+without a pause, is cut where it is, and what the part before began finishes
+in the next (a live face's take-over, engine/take_over.py), as it does when
+the export replays the session.
 """
 
 from __future__ import annotations
@@ -28,6 +29,7 @@ from ..core.face_state import FaceState
 from ..engine.compiler import compile_script
 from ..engine.effects import RobotStatus
 from ..engine.session_program import not_here
+from ..engine.take_over import Carry
 from ..engine.timeline import Timeline
 from ..language.diagnostics import Diagnostic, ScriptError
 from ..language.parser import parse
@@ -46,8 +48,10 @@ class Press(NamedTuple):
     duration: float  # how long the command runs on its own
 
 
-PART_PRESSES = 50  # presses a part of the session holds before the next pause starts another
-PART_MOST = 200  # a flood of overlapping presses starts another part here, pause or not
+PART_PRESSES = 20  # presses a part of the session holds before the next pause starts another
+# A flood of overlapping presses starts another part here, pause or not, the moves begun going on
+# (as a live face's take-over): a press compiles at most this many, at the 10,000th as at the 50th.
+PART_MOST = 50
 HEADER_BYTES = 200  # the export's two comment lines, generously
 PART_BYTES = 16  # the `wait` that starts a part in the export
 SHOWN_PRESSES = 200  # the latest presses a press's answer lists (the export has them all)
@@ -63,6 +67,7 @@ class Part(NamedTuple):
     start: FaceState
     robot: RobotStatus
     size: Tuple[int, int] = (0, 0)  # its text: bytes, and pieces as `_check_whole` counts them
+    carry: Optional[Carry] = None  # what the part before began and still finishes in this one
 
     @property
     def end(self) -> float:
@@ -150,7 +155,7 @@ class Session:
         text = "\n".join(_body(shifted))
         size = self._check_whole(closed, text, at + duration)
         script = self._parse(self.text_of(shifted))
-        timeline = self._compile(script, part.start)
+        timeline = self._compile(script, part.start, part.carry)
         self.compiled_presses += len(pressed)
         part = part._replace(presses=pressed, timeline=timeline, size=size)
         return Pending(generation, press, part, now if started is None else started, at, closed)
@@ -164,7 +169,7 @@ class Session:
         robot = robot._replace(
             nodding_until=robot.nodding_until + shift, saying_until=robot.saying_until + shift
         )
-        return Part(at, [], part.timeline, part.timeline.sample(t), robot)
+        return Part(at, [], part.timeline, part.timeline.sample(t), robot, carry=Carry(part.timeline, t))
 
     def _check_whole(self, closed: Tuple[int, int], text: str, seconds: float) -> Tuple[int, int]:
         """ScriptError past a script's limits, which the session as a whole keeps to, so that `play`
@@ -193,12 +198,14 @@ class Session:
         self.generation += 1
         return pending.at
 
-    def _compile(self, script: Script, start: Optional[FaceState] = None) -> Timeline:
+    def _compile(
+        self, script: Script, start: Optional[FaceState] = None, carry: Optional[Carry] = None
+    ) -> Timeline:
         refused = not_here(script, "the studio")  # until the studio runs engine/live_session.py
         if refused is not None:
             raise refused
         try:
-            return compile_script(script, self.seed, start=start, recordings=self.recordings)
+            return compile_script(script, self.seed, start=start, recordings=self.recordings, carry=carry)
         except RecordingError as e:  # a press that says a recording it cannot
             raise ScriptError([e.diagnostic()._replace(line=0, column=0)], "<command>") from None
 
