@@ -49,6 +49,14 @@ class Frames:
         with self.lock:
             return self.renderer.frame_key(state)
 
+    def place(self, state: Any, x: float, y: float) -> str:
+        """Where on the face, as drawn for `state`, a tap at (x, y) lands (fractions of the frame):
+        a place `touch` names, or "" for anywhere else."""
+        from ..drawing.touch_places import touched_place
+
+        with self.lock:
+            return touched_place(self.renderer.layers, state, x, y)
+
     def jpeg(self, state: Any) -> bytes:
         from PIL import Image
 

@@ -20,6 +20,7 @@
     frameBytes: 0, // of which frames
     connected: false,
     connections: 0,
+    touches: [], // what each tap raised, as the server answered ("touch left eye"), newest last
     awake: "not asked",
     sound: () => voice.state(),
     sounds: () => voice.sounds(),
@@ -90,6 +91,32 @@
   }
   document.addEventListener("pointerdown", touched);
   document.addEventListener("keydown", touched);
+
+  // -- a tap on the face raises `touch` for the script's handlers. The page says only where, as
+  // fractions of the frame (drawn letterboxed: object-fit contain); the server finds what is there.
+  const TOUCHES_KEPT = 20;
+  function tapped(event) {
+    if (event.target === tap || face.hidden || !face.width) return;
+    const box = face.getBoundingClientRect();
+    const scale = Math.min(box.width / face.width, box.height / face.height);
+    const left = box.left + (box.width - face.width * scale) / 2;
+    const top = box.top + (box.height - face.height * scale) / 2;
+    const where = {
+      x: (event.clientX - left) / (face.width * scale),
+      y: (event.clientY - top) / (face.height * scale),
+    };
+    const headers = { "content-type": "application/json" };
+    if (token) headers["x-baxterface-token"] = token;
+    fetch("/api/touch", { method: "POST", headers, body: JSON.stringify(where) })
+      .then((answer) => (answer.ok ? answer.json() : null))
+      .then((answer) => {
+        if (!answer) return;
+        shown.touches.push(answer.event);
+        if (shown.touches.length > TOUCHES_KEPT) shown.touches.shift();
+      })
+      .catch(() => {});
+  }
+  document.addEventListener("pointerdown", tapped);
 
   // -- the connection: frames and status, and back again after a restart
 

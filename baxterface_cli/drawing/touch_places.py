@@ -1,0 +1,53 @@
+"""Where on the face a tap lands, for `touch left eye`, `touch mouth`, `touch brows`.
+
+Found from the face as it is drawn at that moment, in the renderer's own layers: the mouth and
+the brows where their sprites have ink near the tap (a finger is wide, so within `REACH`), an
+eye within its socket (where its lid closes) or where its pupil has moved to. The robot's left
+eye is the one on the screen's right, as `wink left` says. A page sends only where it was tapped.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Optional
+
+from ..core.face_state import FaceState
+from ..core.presets import expression_of
+from .compositing import Sprite
+from .pose import pose
+from .theme_fitting import ThemeLayers
+
+REACH = 0.03  # of the screen's height: how near a tap must come to a stroke of the mouth or brows
+
+
+def touched_place(layers: ThemeLayers, state: FaceState, x: float, y: float) -> str:
+    """The place (events.PLACES) at (x, y), fractions of the frame's width and height; "" for
+    anywhere else (the skin, the bars around the face)."""
+    if not (math.isfinite(x) and math.isfinite(y)):
+        return ""
+    width, height = layers.size
+    px, py = x * width, y * height
+    reach = max(1, round(REACH * height))
+    parts = layers.drawn.keys(expression_of(state)) if layers.drawn is not None else state.parts
+    if _inked(layers.mouths[parts.mouth], px, py, reach):
+        return "mouth"
+    if _inked(layers.brows[parts.brows], px, py, reach):
+        return "brows"
+    at = pose(layers, state)
+    for i, lid in enumerate(layers.lids):
+        eye: Optional[Sprite] = layers.eyes[i] if i < len(layers.eyes) else None
+        rects = [lid.rect()] + ([eye.rect(at.eye_dx, at.eye_dy)] if eye is not None else [])
+        if any(x0 <= px < x1 and y0 <= py < y1 for x0, y0, x1, y1 in rects):
+            return "right eye" if lid.x + lid.width / 2 < width / 2 else "left eye"
+    return ""
+
+
+def _inked(sprite: Sprite, px: float, py: float, reach: int) -> bool:
+    """Does `sprite` draw anything within `reach` pixels of (px, py)?"""
+    x0, y0 = int(px) - reach - sprite.x, int(py) - reach - sprite.y
+    x1, y1 = x0 + 2 * reach + 1, y0 + 2 * reach + 1
+    x0, y0 = max(0, x0), max(0, y0)
+    x1, y1 = min(sprite.width, x1), min(sprite.height, y1)
+    if x0 >= x1 or y0 >= y1:
+        return False
+    return bool((sprite.inv[y0:y1, x0:x1, 0] < 255).any())
