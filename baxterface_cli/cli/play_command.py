@@ -52,6 +52,12 @@ def play(
     face_policy: Optional[str] = FACE_POLICY_OPT,
     events: Optional[str] = EVENTS_OPT,
     duration: Optional[float] = DURATION_OPT,
+    listen: bool = typer.Option(
+        False, "--listen", help="Hear the script's 'on word' phrases from this machine's microphone."
+    ),
+    barge_in: bool = typer.Option(
+        False, "--barge-in", help="With --listen: hear words while the face speaks (it may hear itself)."
+    ),
 ) -> None:
     """Play a script in real time: in a window, or in this terminal.
 
@@ -59,7 +65,9 @@ def play(
     following. A script that says something speaks through this machine's
     sound device, in step with the picture. A script that follows someone
     follows them in FILE with --follow-from. A script with handlers meets the events of
-    --events FILE at their times (the window raises none of its own yet). Ctrl-C stops.
+    --events FILE at their times; in a window, and with --listen, it runs live: a click on the
+    face is a `touch` (with its place), a phrase heard from the microphone a `word`, until the
+    window closes, --duration passes or the face exits. Ctrl-C stops.
     """
     from ..drawing.renderer import Renderer
     from ..engine.session_run import reactive
@@ -68,14 +76,21 @@ def play(
     if watch and (script_path in (None, "-") or inline is not None):
         raise fail("baxterface play: --watch needs a SCRIPT file", 2)
     script = script_from(script_path, inline, "play")
-    handlers_need_events(script, events, "play")
-    if watch and (events is not None or reactive(script)):
+    if watch and (events is not None or reactive(script) or listen):
         raise fail("baxterface play: --watch plays scripts that do not react, for now", 2)
+    if barge_in and not listen:
+        raise fail("baxterface play: --barge-in goes with --listen", 2)
     why_not = window_available()
     if window is None:
         window = why_not is None
     if window and why_not:
         raise fail(f"baxterface play: cannot open a window: {why_not}")
+    if listen or (window and reactive(script)):
+        from .play_live import play_live
+
+        play_live(script, events, window, fps, size, seed, theme, idle, crossfade, duration, listen, barge_in)
+        return
+    handlers_need_events(script, events, "play")
     if not window and not sys.stdout.isatty():
         raise fail(
             "baxterface play: no display and no terminal to play in; "

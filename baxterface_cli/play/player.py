@@ -134,6 +134,15 @@ class WindowScreen:
     def _closed(self) -> None:
         self.open = False
 
+    def on_click(self, touch: Callable[[float, float], None]) -> None:
+        """Tell `touch` where the face is clicked: fractions of the picture's width and height."""
+
+        def clicked(event) -> None:
+            if self.photo is not None:
+                touch(event.x / self.photo.width(), event.y / self.photo.height())
+
+        self.image_label.bind("<Button-1>", clicked)
+
     def show(self, frame_bgr: np.ndarray, status: str) -> None:
         image = Image.fromarray(np.ascontiguousarray(frame_bgr[..., ::-1]), "RGB")
         if self.photo is None or self.photo.width() != image.width or self.photo.height() != image.height:

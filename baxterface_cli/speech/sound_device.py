@@ -1,4 +1,5 @@
-"""Sound out of this machine's speakers, through PortAudio (the `sounddevice` module).
+"""Sound out of this machine's speakers, and in from its microphone, through PortAudio (the
+`sounddevice` module).
 
 One output stream runs for as long as the sound is open; its callback mixes
 whatever is playing, so utterances overlap rather than cut each other and
@@ -11,6 +12,7 @@ from __future__ import annotations
 
 import contextlib
 import os
+import queue
 import sys
 import threading
 import time
@@ -288,3 +290,85 @@ class SpeechCues:
             skip = heard_now - (self.origin + said.at)
             if skip < said.utterance.duration:
                 self.sound.play(said.utterance.samples, said.utterance.sample_rate, skip)
+
+
+class MicrophoneError(RuntimeError):
+    """No microphone to listen with; the message says why, in one line."""
+
+
+class Microphone:
+    """The default input device, 16 kHz mono int16, its blocks handed to `take(block)` on a thread
+    of its own (PortAudio's callback only queues them, so a slow listener drops no sound).
+
+        with Microphone(spotter.feed):
+            ...
+
+    MicrophoneError, in one line, when the module, the library or an input device is missing.
+    """
+
+    RATE = 16000  # the speech model's
+    BLOCK = 0.05  # seconds a block: what a word waits, at most, to reach the listener
+
+    def __init__(self, take: Callable[[np.ndarray], object]) -> None:
+        self.take = take
+        self._queue: queue.Queue[Optional[np.ndarray]] = queue.Queue(maxsize=200)
+        self._stream = None
+        self._thread: Optional[threading.Thread] = None
+        self.dropped = 0  # blocks lost because the listener fell 10 s behind
+
+    def __enter__(self) -> Microphone:
+        try:
+            with _quiet_stderr():
+                import sounddevice as sd
+        except ImportError:
+            raise MicrophoneError(f"listening needs the sounddevice module: {INSTALL_HINT}") from None
+        except OSError:
+            raise MicrophoneError(
+                "listening needs the PortAudio library: apt install libportaudio2"
+            ) from None
+
+        def callback(indata, frames, timing, status) -> None:
+            try:
+                self._queue.put_nowait(indata[:, 0].copy())
+            except queue.Full:
+                self.dropped += 1
+
+        try:
+            with _quiet_stderr():
+                sd.query_devices(kind="input")  # raises when there is no default input
+                stream = sd.InputStream(
+                    samplerate=self.RATE,
+                    channels=1,
+                    dtype="int16",
+                    blocksize=int(self.BLOCK * self.RATE),
+                    callback=callback,
+                )
+                stream.start()
+        except Exception as e:  # PortAudio's errors, and whatever a broken device raises
+            text = str(e).strip().splitlines()[0] if str(e).strip() else type(e).__name__
+            if "querying device -1" in text:
+                text = "PortAudio finds no input device"
+            raise MicrophoneError(f"no microphone ({text})") from None
+        self._stream = stream
+        self._thread = threading.Thread(target=self._listen, name="microphone", daemon=True)
+        self._thread.start()
+        return self
+
+    def _listen(self) -> None:
+        while True:
+            block = self._queue.get()
+            if block is None:
+                return
+            self.take(block)
+
+    def __exit__(self, *exc: object) -> None:
+        stream, self._stream = self._stream, None
+        if stream is not None:
+            with contextlib.suppress(Exception):
+                stream.abort(ignore_errors=True)
+            with contextlib.suppress(Exception):
+                stream.close(ignore_errors=True)
+        if self._thread is not None:
+            with contextlib.suppress(queue.Full):
+                self._queue.put(None, timeout=1.0)
+            self._thread.join(timeout=5.0)

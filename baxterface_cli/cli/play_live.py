@@ -1,0 +1,129 @@
+"""`baxterface play` live: a script that reacts, on a live session, with a window's clicks, a
+microphone's words (`--listen`) and an events file's lines (play/live_player.py)."""
+
+from __future__ import annotations
+
+import contextlib
+import sys
+from typing import List, Optional
+
+import typer
+
+from ..language import syntax_tree as n
+from ..language.diagnostics import ScriptError
+from .app import fail, fitted_theme, recordings_of
+
+
+def words_of(script: n.Script) -> List[str]:
+    """The phrases the script's `on word` and `wait until word` listen for, in order, once each."""
+    from ..language.checker import walk
+
+    found = []
+    for statement in walk(script.body):
+        event = getattr(statement, "event", None)
+        if isinstance(statement, (n.On, n.WaitUntil)) and event is not None and event.kind == "word":
+            found.append(event.arg)
+    return list(dict.fromkeys(found))
+
+
+def play_live(
+    script: n.Script,
+    events: Optional[str],
+    window: bool,
+    fps: float,
+    size: Optional[str],
+    seed: Optional[int],
+    theme: Optional[str],
+    idle: bool,
+    crossfade: Optional[float],
+    duration: Optional[float],
+    listen: bool,
+    barge_in: bool,
+) -> None:
+    from ..drawing.renderer import Renderer
+    from ..engine.live_session import LiveSession
+    from ..extras import MissingTool
+    from ..language.event_trace import read_trace
+    from ..play.live_player import LivePlayer
+    from ..play.player import TerminalScreen, WindowScreen
+
+    words = words_of(script)
+    if listen and not words:
+        raise fail(
+            "baxterface play: --listen: the script listens for no words ('on word \"hello\" { ... }')", 2
+        )
+    try:
+        trace = None if events is None else read_trace("/dev/stdin" if events == "-" else events, events)
+    except ScriptError as e:
+        raise fail(e.render()) from None
+    renderer = Renderer(fitted_theme(theme, size, "play"))
+    held: List[str] = []
+
+    def say(line: str) -> None:
+        if window:
+            typer.echo(line, err=True)
+        else:
+            held.append(line)
+
+    def open_sound():
+        from ..speech.sound_device import open_sound as open_device
+
+        return open_device(lambda message: say(f"baxterface play: {message}"))
+
+    with contextlib.ExitStack() as stack:
+        try:
+            session = LiveSession(
+                script, seed=seed, idle=idle, recordings=recordings_of(script), crossfade=crossfade
+            )
+        except MissingTool as e:
+            raise fail(f"baxterface: {e}") from None
+        except ScriptError as e:
+            raise fail(e.render()) from None
+        if not window and not sys.stdout.isatty():
+            raise fail(
+                "baxterface play: no display and no terminal to play in; "
+                "use 'baxterface render SCRIPT --events FILE --out show.gif' to make a file instead"
+            )
+        screen = WindowScreen() if window else TerminalScreen()
+        stack.callback(screen.close)
+        player = LivePlayer(session, renderer, screen, fps, trace, duration, sound=open_sound)
+        if listen:
+            _listen(stack, player, words, barge_in)
+        interrupted = False
+        try:
+            player.run()
+        except KeyboardInterrupt:
+            interrupted = True
+        except (ScriptError, MissingTool) as e:  # found only in saying it: a text espeak-ng crashed on
+            stack.close()
+            raise fail(e.render() if isinstance(e, ScriptError) else f"baxterface: {e}") from None
+        finally:
+            if player.sound is not None:
+                player.sound.close()
+    for line in held:
+        typer.echo(line, err=True)
+    shown = f"{player.frames_shown} frames ({screen.name})"
+    if interrupted:
+        typer.echo(f"interrupted after {player.position:.2f} s: {shown}", err=True)
+        raise typer.Exit(130)
+    typer.echo(f"played {player.position:.2f} s live: {shown}", err=True)
+
+
+def _listen(stack: contextlib.ExitStack, player, words: List[str], barge_in: bool) -> None:
+    """The microphone, its words heard by a spotter and posted to the player; a one-line exit if
+    either is missing."""
+    from ..extras import MissingTool
+    from ..speech.sound_device import Microphone, MicrophoneError
+    from ..speech.word_spotter import WordError, WordSpotter
+
+    try:
+        spotter = WordSpotter(
+            words, player.hear, clock=player.now, speaking=player.speaking, barge_in=barge_in
+        )
+    except (MissingTool, WordError) as e:
+        raise fail(f"baxterface play: --listen: {e}", 2) from None
+    stack.callback(spotter.close)
+    try:
+        stack.enter_context(Microphone(spotter.feed))
+    except MicrophoneError as e:
+        raise fail(f"baxterface play: --listen: {e}") from None

@@ -1,0 +1,199 @@
+"""Words heard from a microphone or a recording, offline: pocketsphinx's keyphrase search
+(the `[lipsync]` extra, whose wheel ships the English model; nothing is downloaded).
+
+A `WordSpotter` is given the phrases a script's `on word "..."` handlers wait for, and takes
+audio in blocks (16 kHz mono int16) as it comes. Each phrase it hears is told to `on_word`
+with the time it ended, on the caller's clock. It knows no ROS, device or session: a
+microphone (sound_device.Microphone), a recording (`spot_file`) or a test feeds it.
+
+How sure it must be grows with a phrase's length: pocketsphinx scores a phrase by the product
+of its phones' likelihoods, so its threshold is a power of ten per phone (`PER_PHONE`), tuned on
+recordings (bench/bench_words.py) and measured on other voices (docs/speech.md).
+
+The face does not hear itself: a phrase heard while `speaking(at)` says the face was speaking,
+at the phrase's start or end or within `ECHO` after the face stopped, is ignored (and counted),
+unless `barge_in`.
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+import threading
+import wave
+from typing import Any, Callable, Dict, List, NamedTuple, Optional, Sequence
+
+import numpy as np
+
+from ..extras import need
+from .audio_files import EXTRA
+from .soundtrack import resample
+
+RATE = 16000  # the English model's
+FRAME = 0.01  # pocketsphinx's frames: 100 a second
+PER_PHONE = 4.0  # kws_threshold = 1e-(PER_PHONE * phones): tuned by bench/bench_words.py --tune
+MOST_THRESHOLD = 60.0  # a long phrase's exponent stops here: beyond, anything at all passes
+ECHO = 0.3  # seconds after the face stops speaking that its voice still fills the room
+RESTART = 20.0  # seconds of sound after which the search starts afresh (between phrases)
+
+
+class Heard(NamedTuple):
+    word: str  # the phrase as the script wrote it
+    at: float  # when it ended, on the caller's clock
+    start: float
+
+
+class WordError(ValueError):
+    """A phrase the model cannot spot (a word not in its dictionary); the message says which."""
+
+
+def phrase_of(text: str) -> str:
+    """A phrase as it is spotted: lower case, single spaces."""
+    return " ".join(text.lower().split())
+
+
+def threshold(phones: int, per_phone: float = PER_PHONE) -> float:
+    """pocketsphinx's kws_threshold for a phrase of `phones` phones."""
+    return 10.0 ** -min(MOST_THRESHOLD, per_phone * max(1, phones))
+
+
+def _pocketsphinx() -> Any:
+    return need("pocketsphinx", EXTRA, "hearing words")
+
+
+class WordSpotter:
+    """Phrases heard in audio fed block by block (see the module's docstring).
+
+    `clock()` gives the time at which the block being fed ended (the sound's last sample was
+    heard); `feed(block, end=...)` may say it instead (a recording's own time).
+    """
+
+    def __init__(
+        self,
+        words: Sequence[str],
+        on_word: Callable[[str, float], None],
+        clock: Optional[Callable[[], float]] = None,
+        speaking: Optional[Callable[[float], bool]] = None,
+        barge_in: bool = False,
+        per_phone: float = PER_PHONE,
+    ) -> None:
+        ps = _pocketsphinx()
+        self.words = list(dict.fromkeys(phrase_of(w) for w in words if w.strip()))
+        if not self.words:
+            raise WordError("no words to listen for")
+        self.on_word = on_word
+        self.clock = clock
+        self.speaking = speaking
+        self.barge_in = barge_in
+        self.heard: List[Heard] = []  # everything told to on_word, in order
+        self.ignored: List[Heard] = []  # heard while the face spoke
+        self._lock = threading.Lock()  # a microphone's thread feeds; `close` may come from another
+        lookup = ps.Decoder(lm=None, loglevel="FATAL")
+        lines = []
+        for phrase in self.words:
+            phones = 0
+            for word in phrase.split():
+                found = lookup.lookup_word(word)
+                if found is None:
+                    raise WordError(f"'{word}' is not a word the speech model knows (in \"{phrase}\")")
+                phones += len(found.split())
+            lines.append(f"{phrase} /{threshold(phones, per_phone):.3g}/\n")
+        handle, path = tempfile.mkstemp(suffix=".kws", prefix="baxterface-")
+        try:
+            with os.fdopen(handle, "w") as f:
+                f.writelines(lines)
+            self._decoder = ps.Decoder(kws=path, loglevel="FATAL")
+        finally:
+            os.unlink(path)
+        self._samples = 0  # fed since this utterance began
+        self._last_found = 0  # samples at the last phrase found
+        self._told: Dict[tuple, bool] = {}
+        self._decoder.start_utt()
+
+    def feed(self, block: np.ndarray, end: Optional[float] = None) -> List[Heard]:
+        """Take a block of 16 kHz mono int16 samples; the phrases it completed (also told to
+        `on_word`, unless the face was speaking)."""
+        if end is None:
+            end = self.clock() if self.clock is not None else (self._samples + len(block)) / RATE
+        samples = np.ascontiguousarray(block, dtype=np.int16).reshape(-1)
+        found: List[Heard] = []
+        with self._lock:
+            self._decoder.process_raw(samples.tobytes(), False, False)
+            self._samples += len(samples)
+            fed_end = self._samples
+            if self._decoder.hyp() is not None:
+                for seg in self._decoder.seg():
+                    key = (seg.word, seg.start_frame)
+                    if key in self._told:
+                        continue
+                    self._told[key] = True
+                    ago = (fed_end - seg.end_frame * FRAME * RATE) / RATE
+                    length = (seg.end_frame - seg.start_frame) * FRAME
+                    found.append(Heard(phrase_of(seg.word), end - ago, end - ago - length))
+                    self._last_found = self._samples
+            if self._samples > RESTART * RATE and self._samples - self._last_found > RATE:
+                self._restart()  # a long search's segments grow; cut where no phrase was just heard
+        told = []
+        for heard in found:
+            if self._muted(heard):
+                self.ignored.append(heard)
+            else:
+                self.heard.append(heard)
+                told.append(heard)
+                self.on_word(heard.word, heard.at)
+        return told
+
+    def _restart(self) -> None:
+        self._decoder.end_utt()
+        self._decoder.start_utt()
+        self._samples = self._last_found = 0
+        self._told.clear()
+
+    def _muted(self, heard: Heard) -> bool:
+        if self.barge_in or self.speaking is None:
+            return False
+        return any(self.speaking(t) for t in (heard.start, heard.at, heard.start - ECHO))
+
+    def close(self) -> None:
+        with self._lock:
+            self._decoder.end_utt()
+
+
+def read_wav(path: str) -> np.ndarray:
+    """A WAV file's samples as 16 kHz mono int16 (channels mixed, resampled)."""
+    with wave.open(path, "rb") as w:
+        if w.getsampwidth() != 2:
+            raise WordError(f"{path}: a WAV of 16-bit samples is needed, not {8 * w.getsampwidth()}-bit")
+        rate, channels = w.getframerate(), w.getnchannels()
+        samples = np.frombuffer(w.readframes(w.getnframes()), "<i2")
+    if channels > 1:
+        samples = samples.reshape(-1, channels).mean(axis=1).astype(np.int16)
+    return resample(samples.astype(np.int16), rate, RATE)
+
+
+def spot_samples(
+    samples: np.ndarray,
+    words: Sequence[str],
+    block: float = 0.05,
+    speaking: Optional[Callable[[float], bool]] = None,
+    barge_in: bool = False,
+    per_phone: float = PER_PHONE,
+) -> List[Heard]:
+    """The phrases heard in 16 kHz mono samples, fed as a microphone would, in blocks of `block`
+    seconds; times from the recording's start."""
+    spotter = WordSpotter(
+        words, lambda word, at: None, speaking=speaking, barge_in=barge_in, per_phone=per_phone
+    )
+    step = max(1, int(block * RATE))
+    for i in range(0, len(samples), step):
+        piece = samples[i : i + step]
+        spotter.feed(piece, end=(i + len(piece)) / RATE)
+    # A phrase at the very end is decided by silence after it, as a microphone would hear.
+    spotter.feed(np.zeros(int(0.5 * RATE), np.int16), end=len(samples) / RATE + 0.5)
+    spotter.close()
+    return spotter.heard
+
+
+def spot_file(path: str, words: Sequence[str], **options: Any) -> List[Heard]:
+    """The phrases heard in a WAV file (see `spot_samples`)."""
+    return spot_samples(read_wav(path), words, **options)
