@@ -66,13 +66,14 @@ def reacting_animation(
 
 
 def handlers_need_events(script: Script, events: Optional[str], command: str) -> None:
-    """`play` without --events refuses a script with handlers: its window raises no events yet."""
+    """`play` in a terminal, without --events or --listen, refuses a script with handlers: nothing
+    there raises events (a window raises touch, --listen words)."""
     from ..language.syntax_tree import On
 
     handler = next((s for s in script.body if isinstance(s, On)), None)
     if events is None and handler is not None:
         raise fail(
             f"baxterface {command}: {script.filename}:{handler.pos.line}: the script has handlers; "
-            "give --events FILE (play's window raises no events yet)",
+            "give --events FILE or --listen, or play it in a window",
             2,
         )

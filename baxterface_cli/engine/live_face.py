@@ -91,8 +91,8 @@ class LiveFace:
         """Compile `script` to start from `start`; safe from another thread."""
         from ..speech.recordings import RecordingError, Recordings
 
-        refused = not_here(script, "a live face (the node, the screen, the studio)")
-        if refused is not None:  # until the live ends run engine/live_session.py
+        refused = not_here(script, "a live face without a session (the screen, the studio)")
+        if refused is not None:  # the node runs a LiveSession; the ends still here do not yet
             raise refused
         if self.recordings is None:
             self.recordings = Recordings(None)
@@ -110,7 +110,7 @@ class LiveFace:
         """Compile `script` to take over at `now` from the face as it is then, the statements
         already begun finishing what they started (`sad`'s mouth after its lids, a wink's
         reopening): the face shows what its state says. Safe from another thread."""
-        timeline, started = self._playing
+        timeline, started, _ = self._playing
         return self.prepare(script, timeline.sample(now - started), Carry(timeline, now - started))
 
     def begin(self, timeline: Timeline, now: float) -> None:
@@ -130,10 +130,15 @@ class LiveFace:
         return last.sample(last.duration)
 
     def _start(self, timeline: Timeline, now: float) -> None:
-        # One assignment, so a reader on another thread sees the timeline and its start together.
-        self._playing = (timeline, now)
+        idle = Idle(timeline, seed=self.rng.randrange(2**32), until=IDLE_AHEAD) if self.idle_on else None
         self.pending: List[Cue] = list(timeline.cues)
-        self.idle = Idle(timeline, seed=self.rng.randrange(2**32), until=IDLE_AHEAD) if self.idle_on else None
+        # One assignment, so a reader on another thread (a frame loop, while the live session's
+        # worker starts a step) sees the timeline, its start and its idle life together.
+        self._playing = (timeline, now, idle)
+
+    @property
+    def idle(self) -> Optional[Idle]:
+        return self._playing[2]
 
     @property
     def timeline(self) -> Timeline:
@@ -144,25 +149,26 @@ class LiveFace:
         return self._playing[1]
 
     def finished(self, now: float) -> bool:
-        timeline, started = self._playing
+        timeline, started, _ = self._playing
         return now - started >= timeline.duration
 
     # -- the face
 
     def base_state(self, now: float) -> FaceState:
         """The face the commands make, without idle blinks; safe from another thread."""
-        timeline, started = self._playing
-        return timeline.sample(now - started)
+        timeline, started, _ = self._playing
+        return timeline.sample(max(0.0, now - started))
 
     def state(self, now: float) -> FaceState:
         """The face to show at `now`: the commands' face with idle life on top."""
         if self.queue and self.finished(now):
             self._start(self.queue.popleft(), self.started + self.timeline.duration)
-        state = self.base_state(now)
-        if self.idle is not None:
-            t = now - self.started
-            self.idle.extend(t + IDLE_AHEAD)  # cheap: it plans only past what it has
-            state = self.idle.apply(t, state, darts=self.robot.following is None)
+        timeline, started, idle = self._playing
+        t = max(0.0, now - started)  # a frame's clock read just before another thread began a step
+        state = timeline.sample(t)
+        if idle is not None:
+            idle.extend(t + IDLE_AHEAD)  # cheap: it plans only past what it has
+            state = idle.apply(t, state, darts=self.robot.following is None)
         return state
 
     @property

@@ -14,12 +14,18 @@ stops the handler running and runs at once; `cooldown T` ignores the event for T
 its handler last started. Every step is compiled by the engine's compiler from the face as it is
 (`Carry`: what was begun finishes), except after an `interrupt`, which stops moves where they
 are; whatever stops, its speech stops with it and the mouth comes to rest.
+
+Every public method may be called from any thread (one lock). A frame loop that must never wait
+for a compile (a `say` takes espeak-ng's time) calls `frame`, which never compiles, and leaves
+`advance` to a worker of its own (command_intake.SessionIntake).
 """
 
 from __future__ import annotations
 
 import dataclasses
+import itertools
 import random
+import threading
 from collections import deque
 from typing import TYPE_CHECKING, Any, Deque, Dict, List, NamedTuple, Optional, Tuple
 
@@ -94,6 +100,7 @@ class LiveSession:
         log_lines: Optional[int] = MAX_LOG,
     ) -> None:
         """`record` keeps every timeline started, with its time (`segments`), for a render."""
+        self.lock = threading.RLock()
         self.face = LiveFace(start or FaceState(), idle=idle, seed=seed, now=now, recordings=recordings)
         self.rng = random.Random(f"one of:{seed}")
         self.recordings = recordings
@@ -104,6 +111,7 @@ class LiveSession:
         self.active: Optional[_Run] = None
         self.pending: Deque[Tuple[Handler, n.Event]] = deque()
         self.log: Deque[Logged] = deque(maxlen=log_lines)
+        self.logged = 0  # lines ever logged: the log keeps the last `log_lines`
         self.segments: Optional[List[Tuple[float, Timeline]]] = [] if record else None
         self.cues: List[Cue] = []  # handed out by the next tick
         self.exited = False
@@ -118,7 +126,7 @@ class LiveSession:
 
     def submit(self, text: str, now: float, filename: str = "display_chatter") -> n.Script:
         """Parse `text` and `run` it at `now`; ScriptError if it is bad."""
-        script = parse(text, filename)
+        script = parse(text, filename)  # outside the lock: a long script parses while frames go on
         self.run(script, now)
         return script
 
@@ -126,6 +134,10 @@ class LiveSession:
         """Install `script`'s handlers (one for an event already handled replaces it); raise its
         signals, when that is all it says; or else make its statements the main script, stopping
         whatever runs."""
+        with self.lock:
+            self._run(script, now)
+
+    def _run(self, script: n.Script, now: float) -> None:
         self.advance(now)
         at = self.clock
         for on in (s for s in script.body if isinstance(s, n.On)):
@@ -153,21 +165,39 @@ class LiveSession:
 
     def post(self, event: n.Event, at: float, source: str = "") -> None:
         """An event at `at` (the session's clock, if that is later): waits on it end, handlers run."""
-        self.advance(at)
-        self._dispatch(event, max(at, self.clock), source)
+        with self.lock:
+            self.advance(at)
+            self._dispatch(event, max(at, self.clock), source)
 
     # -- out
 
     def tick(self, now: float) -> Tuple[FaceState, List[Cue]]:
         """The face to show at `now`, and the robot cues that fell due since the last tick."""
-        self.advance(now)
-        state = self.face.state(now)
-        cues, self.cues = self.cues + self.face.due(now), []
-        return state, cues
+        with self.lock:
+            self.advance(now)
+            state = self.face.state(now)
+            cues, self.cues = self.cues + self.face.due(now), []
+            return state, cues
+
+    def frame(self, now: float) -> Tuple[FaceState, List[Cue]]:
+        """`tick` for a frame loop that must not wait: never compiles, never waits for the lock.
+        While a worker is busy, or a step falls due that it has still to take, the face is what
+        plays (its idle life goes on) and the cues wait for a later frame."""
+        cues: List[Cue] = []
+        if self.lock.acquire(blocking=False):
+            try:
+                due = self.next_due()
+                if due is None or due[0] > now:  # nothing to compile: time may pass here
+                    self.clock = max(self.clock, now)
+                    cues, self.cues = self.cues + self.face.due(now), []
+            finally:
+                self.lock.release()
+        return self.face.state(now), cues
 
     def counts(self) -> Dict[str, Dict[str, int]]:
         """Each handler's runs, and the events it dropped and queued."""
-        return {h.label: {"runs": h.runs, "dropped": h.dropped, "queued": h.queued} for h in self.handlers}
+        with self.lock:
+            return {h.label: dict(runs=h.runs, dropped=h.dropped, queued=h.queued) for h in self.handlers}
 
     @property
     def resting(self) -> bool:
@@ -191,13 +221,19 @@ class LiveSession:
 
     def advance(self, until: float) -> None:
         """Do, at their own times and in order, whatever falls due up to `until`."""
-        while True:
+        with self.lock:
+            while True:
+                due = self.next_due()
+                if due is None or due[0] > until:
+                    break
+                self.clock = max(self.clock, due[0])
+                due[1]()
+            self.clock = max(self.clock, until)
+
+    def next_due_at(self) -> Optional[float]:
+        with self.lock:
             due = self.next_due()
-            if due is None or due[0] > until:
-                break
-            self.clock = max(self.clock, due[0])
-            due[1]()
-        self.clock = max(self.clock, until)
+            return None if due is None else due[0]
 
     def next_due(self) -> Optional[Tuple[float, Any]]:
         """The earliest thing the session does by itself, and how: (time, action); None if none."""
@@ -397,6 +433,13 @@ class LiveSession:
 
     def _note(self, at: float, text: str) -> None:
         self.log.append(Logged(at, text))
+        self.logged += 1
+
+    def lines_since(self, logged: int) -> List[Logged]:
+        """The log's lines after the first `logged` ever logged (those it still keeps)."""
+        with self.lock:
+            new = min(self.logged - logged, len(self.log))
+            return list(itertools.islice(reversed(self.log), new))[::-1]  # the new only: a storm
 
 
 def at_rest(timeline: Timeline, t: float) -> FaceState:

@@ -12,6 +12,13 @@ watch's own thread, never on the loop. The camera's focal length comes from
 its `camera_info` (beside the image topic) when it publishes one, unless the
 `camera_hfov` parameter gives the field of view. ROS itself is behind a
 `Link` (link.py): the same node runs on either version.
+
+Scripts run on one live session (engine/live_session.py): a handler sent on `display_chatter`
+installs itself, other commands take over, `signal NAME` raises the signal. The session's steps
+are compiled on the intake's worker (engine/session_intake.py), never on the loop. The node
+raises the events its topics give (robot/event_sensors.py): the navigators' buttons and wheel,
+the head sonar's `person near`/`person gone`, and the camera's `face seen`/`face lost`, for
+which the camera is watched while a handler or a wait wants them.
 """
 
 from __future__ import annotations
@@ -30,11 +37,14 @@ from ..core.face_constants import BROWS, MOUTHS, SKINS
 from ..core.face_state import FaceState
 from ..drawing.renderer import Renderer
 from ..engine.change_polling import FirstMotion
-from ..engine.command_intake import Intake
 from ..engine.effects import Speech
-from ..engine.live_face import LiveFace, sleep_face
+from ..engine.live_face import sleep_face
+from ..engine.live_session import LiveSession
 from ..engine.log_backlog import Backlog
+from ..engine.session_intake import SessionIntake
+from ..language import syntax_tree as n
 from ..robot.camera_watch import CameraWatch
+from ..robot.event_sensors import FaceSightings, NavigatorPresses, SonarPresence
 from ..robot.mtcnn_detector import detector_note
 from ..speech.recordings import Recordings
 from .compressed import CompressedFrames
@@ -58,6 +68,9 @@ SWITCH_INTERVAL = 0.001
 FULL_COLLECTION_EVERY = 1000
 SONAR_TOPIC = "/robot/sonar/head_sonar/state"
 HAND_TYPE = "baxter_core_msgs/EndpointState"
+NAVIGATOR_TYPE = "baxter_core_msgs/NavigatorState"
+NAVIGATOR_TOPIC = "/robot/navigators/{}_navigator/state"
+NAVIGATORS = ("left", "right", "torso_left", "torso_right")
 
 
 def selftest_script() -> str:
@@ -99,9 +112,13 @@ class FaceNode:
             warn=self.log.warn,
             refusal=f"this face node reads no recordings; start it with {recordings_hint(link.version)}",
         )
-        self.live = LiveFace(
-            start=sleep_face(), idle=settings.idle, now=time.monotonic(), recordings=recordings
+        self.session = LiveSession(
+            start=sleep_face(), idle=settings.idle, now=time.monotonic(), recordings=recordings, seed=None
         )
+        self.live = self.session.face  # read by the loop without the session's lock
+        self.faces = FaceSightings(settings.face_seen_after, settings.face_lost_after)
+        self.sonar = SonarPresence(settings.person_near)
+        self.presses = NavigatorPresses()
         self.image_pub = link.publisher(settings.display_topic, "sensor_msgs/Image", latched=True, queue=1)
         self.jpeg = CompressedFrames(link, self.image_pub.topic)  # JPEGs only while someone subscribes
         self.state_pub = link.publisher(STATE, "std_msgs/String", latched=True, queue=1)
@@ -115,7 +132,12 @@ class FaceNode:
 
         def camera(hand_to):
             warn = lambda text: link.log("warn", text, every=WARN_EVERY)  # noqa: E731
-            return CameraWatch(hand_to, hfov_deg=hfov, decode=image_pixels, warn=warn, policy=policy)
+
+            def saw(target):  # on the camera's thread: the eyes' target, and `face seen`/`face lost`
+                hand_to(target)
+                self._raise(self.faces.reading(target is not None, time.monotonic()), "camera")
+
+            return CameraWatch(saw, hfov_deg=hfov, decode=image_pixels, warn=warn, policy=policy)
 
         self.robot = connect_robot(
             link, warn=self.log.warn, info=self.log.info, speak=self._speak, camera=camera
@@ -123,7 +145,8 @@ class FaceNode:
 
         self.wake = threading.Event()
         self.stopping = False  # set by SIGINT and SIGTERM
-        self.intake = Intake(self.live, time.monotonic, ready=self.wake.set)
+        self.intake = SessionIntake(self.session, time.monotonic, ready=self.wake.set, log=self._logged)
+        self.shown_timeline: Any = self.live.timeline  # a new one: a step began (speech cut, state sent)
         self.last_key: Any = None
         self.last_frame_at = -math.inf
         self.first_motion = FirstMotion()  # after a command, looked at often until it shows
@@ -133,12 +156,16 @@ class FaceNode:
         link.subscribe(CHATTER, "std_msgs/String", lambda msg: self._heard(msg, False), queue=100)
         link.subscribe(QUEUE, "std_msgs/String", lambda msg: self._heard(msg, True), queue=100)
         link.subscribe(SONAR_TOPIC, "sensor_msgs/PointCloud", self._sonar_cloud, queue=5)
+        if link.has(NAVIGATOR_TYPE):  # Baxter's own message, as the hands'
+            for navigator in NAVIGATORS:
+                pressed = functools.partial(self._navigator, navigator=navigator)
+                link.subscribe(NAVIGATOR_TOPIC.format(navigator), NAVIGATOR_TYPE, pressed, queue=10)
         if link.has(HAND_TYPE):  # Baxter's own message: ROS 1, or a ROS 2 with baxter_core_msgs
             for side in self.robot.gaze.hands:
                 hand = functools.partial(self._hand, side=side)
                 link.subscribe(f"/robot/limb/{side}/endpoint_state", HAND_TYPE, hand, queue=1)
         if settings.selftest:
-            self.live.command(selftest_script(), time.monotonic(), filename="selftest")
+            self.session.submit(selftest_script(), time.monotonic(), filename="selftest")
 
     # -- callbacks: hand over and wake the loop, nothing else
 
@@ -147,15 +174,38 @@ class FaceNode:
         if refusal:
             self.log.warn(refusal)
 
+    def _raise(self, events: List[n.Event], source: str) -> None:
+        for event in events:
+            refusal = self.intake.post(event, source)
+            if refusal:
+                self.link.log("warn", refusal, every=WARN_EVERY)
+
+    def _logged(self, level: str, text: str) -> None:  # the session's worker: the backlog logs it
+        getattr(self.log, level if level in ("info", "error") else "warn")(text)
+
+    def _navigator(self, msg: Any, navigator: str) -> None:
+        self._raise(self.presses.reading(navigator, list(msg.buttons), msg.wheel), f"{navigator} navigator")
+
+    def _wants(self, *kinds: str) -> bool:
+        """Does a handler, or a wait under way, take one of these events?"""
+        s = self.session  # read without its lock: the worker swaps these whole
+        waits = [getattr(r, "waiting", None) for r in (s.main, s.active)]
+        events = [h.on.event for h in s.handlers] + [w[0].event for w in waits if w is not None]
+        return any(e.kind in kinds for e in events)
+
     def _sonar_cloud(self, msg: Any) -> None:
         """Check a sonar cloud and hand its (ids, distances) over; skip it, warning, if malformed."""
-        if not self.robot.gaze.wants_sonar:
+        following, people = self.robot.gaze.wants_sonar, self._wants("person near", "person gone")
+        if not following and not people:
             return
         channels = {c.name: list(c.values) for c in msg.channels}
         if "SensorId" not in channels or "Distance" not in channels:
             problem = f"no SensorId and Distance channels (it has {sorted(channels)})"
         else:
             problem = self.robot.heard_sonar(channels["SensorId"], channels["Distance"])
+            if problem is None and people:
+                readings = self.sonar.reading(channels["SensorId"], channels["Distance"], time.monotonic())
+                self._raise(readings, "head sonar")
         if problem:
             self.link.log("warn", f"skipped a head sonar cloud: {problem}", every=WARN_EVERY)
 
@@ -167,7 +217,10 @@ class FaceNode:
             self.link.log("warn", f"skipped a {side} hand pose that is not finite", every=WARN_EVERY)
 
     def _image(self, msg: Any) -> None:
-        self.robot.heard_image(msg, time.monotonic())  # decoded and looked at on the camera's thread
+        if self.robot.gaze.wants_camera:
+            self.robot.heard_image(msg, time.monotonic())  # decoded and looked at on the camera's thread
+        elif self.robot.camera.watching:  # for `face seen` and `face lost` only
+            self.robot.camera.give(msg, time.monotonic())
 
     def _camera_info(self, msg: Any) -> None:
         k = msg.K if hasattr(msg, "K") else msg.k  # ROS 1 spells it K, ROS 2 k
@@ -184,7 +237,12 @@ class FaceNode:
 
     def _watch_camera(self) -> None:
         """Subscribe to the camera while a face is followed, and only then: images are heavy."""
-        wanted = self.robot.gaze.wants_camera
+        faces = self._wants("face seen", "face lost")
+        if faces and not self.robot.gaze.wants_camera and not self.robot.camera.watching:
+            problem = self.robot.camera.start()
+            if problem:
+                self.link.log("warn", f"no face events: {problem}", every=WARN_EVERY)
+        wanted = self.robot.gaze.wants_camera or (faces and self.robot.camera.watching)
         if wanted and self.camera_sub is None:
             self.camera_sub = self.link.subscribe(
                 self.camera_topic, "sensor_msgs/Image", self._image, sensor=True
@@ -231,10 +289,12 @@ class FaceNode:
         while not self.stopping and self.link.ok():
             now = time.monotonic()
             took = self._take_commands(now)
-            for cue in self.live.due(now):
+            self._raise(self.faces.check(now) + self.sonar.check(now), "")
+            face, cues = self.session.frame(now)
+            for cue in cues:
                 self.robot.take(cue.effect, now)
             self._watch_camera()
-            state = self.robot.look(self.live.state(now), now)
+            state = self.robot.look(face, now)
             self.robot.tick(now)
             if self.live.exited:
                 self._publish_frame(state, now, force=True)
@@ -264,14 +324,16 @@ class FaceNode:
         return 0
 
     def _take_commands(self, now: float) -> bool:
-        """Start or queue what the intake has ready; True if something started now."""
-        took = self.intake.hand_over(now, warn=self.log.warn, error=self.log.error)
-        if took is not None:
-            self.last_state_at = -math.inf  # report the change at once
-        if took:  # what was being said is cut off with the script that said it
+        """True if the session began a step since the last look (its worker did)."""
+        timeline = self.live.timeline
+        if timeline is self.shown_timeline:
+            return False
+        self.shown_timeline = timeline
+        self.last_state_at = -math.inf  # report the change at once
+        if self.saying is not None and now < self.saying[1]:  # cut off with the step that said it
             self.saying = None
             self.speaker.stop()
-        return bool(took)
+        return True
 
     def _publish_frame(self, state: FaceState, now: float, force: bool = False) -> bool:
         """Publish the frame of `state` if it changed (or `force`); True if one went out."""
@@ -297,7 +359,8 @@ class FaceNode:
             "follow_dynamic": self.robot.gaze.dynamic,
             "follow_seen": self.robot.gaze.seen,
             "playing": not self.live.finished(now),
-            "queued": len(self.live.queue),
+            "queued": len(self.intake.waiting),
+            "handlers": self.intake.counts,
             "saying": self.saying[0] if self.saying and now < self.saying[1] else None,
         }
         text = json.dumps(report, sort_keys=True)

@@ -42,6 +42,10 @@ class NodeSettings:
     recordings: Optional[str] = None  # the folder `say file` reads from; None: none is read
     camera_hfov: Optional[float] = None  # degrees; None: the camera's camera_info, or Baxter's head camera
     face_policy: str = DEFAULT_FACE_POLICY
+    # Events for handlers (robot/event_sensors.py): the camera's hysteresis, the sonar's distance.
+    face_seen_after: float = 0.2  # seconds a face is found before `face seen`
+    face_lost_after: float = 0.8  # seconds unseen before `face lost`
+    person_near: float = 1.0  # metres from the head sonar that make `person near`
 
     @classmethod
     def read(cls, get: Callable[[str, Any], Any], defaults: Optional[NodeSettings] = None) -> NodeSettings:
@@ -60,6 +64,9 @@ class NodeSettings:
             recordings=_folder(get, "recordings"),
             camera_hfov=_unset_or(_number, get, "camera_hfov", 1.0, 179.0, " degrees"),
             face_policy=_one_of(get, "face_policy", d.face_policy, FACE_POLICIES, FACE_POLICY_CHOICES),
+            face_seen_after=_number(get, "face_seen_after", d.face_seen_after, 0.0, 10.0, " s"),
+            face_lost_after=_number(get, "face_lost_after", d.face_lost_after, 0.0, 60.0, " s"),
+            person_near=_number(get, "person_near", d.person_near, 0.1, 5.0, " m"),
         )
 
 

@@ -86,7 +86,7 @@ def test_play_refuses_handlers_without_events(files):
     assert run.code == 2
     assert run.err.strip() == (
         "baxterface play: s.face:4: the script has handlers; "
-        "give --events FILE (play's window raises no events yet)"
+        "give --events FILE or --listen, or play it in a window"
     )
 
 
@@ -96,7 +96,7 @@ def test_the_live_ends_refuse_a_script_that_reacts_in_one_line():
         face.command("blink\non face seen { nod }", 1.0)
     assert caught.value.summary() == (
         "display_chatter:2:1: error: 'on face seen' runs in render, play and explain (with --events FILE); "
-        "a live face (the node, the screen, the studio) does not run handlers, waits, signals, 'forever' "
-        "or 'one of' yet"
+        "a live face without a session (the screen, the studio) does not run handlers, waits, signals, "
+        "'forever' or 'one of' yet"
     )
     face.command("blink", 1.0)  # and goes on taking what it can run

@@ -1167,3 +1167,69 @@ def test_ros_console_examples_do_what_the_docs_show(ros, doc, command, expected,
             face.send_signal(signal.SIGTERM)
             face.wait(timeout=20)
         forget_parameters(ros)
+
+
+# -- reacting (issue 37): handlers sent to the node, events from its topics
+
+HANDLERS = "on button ok { happy }\non signal poke { sad }\non person near { angry }\non button up { blink }"
+
+
+def publish_until_heard(pub, message, state, test, timeout=30.0):
+    """Publish `message` until the node's ~state passes `test` (its subscription takes a moment)."""
+    deadline = time.monotonic() + timeout
+    seen = len(state.messages)
+    while True:
+        pub.publish(message)
+        try:
+            return report(state, after=seen, test=test, timeout=0.5)
+        except AssertionError:
+            assert time.monotonic() < deadline, "the node never reacted"
+
+
+def runs(record, line):
+    return next((c["runs"] for label, c in record.get("handlers", {}).items() if label.startswith(line)), 0)
+
+
+def test_handlers_sent_to_the_node_react_to_buttons_signals_and_the_sonar(ros):
+    import rospy
+    from sensor_msgs.msg import PointCloud
+
+    from baxterface_cli.ros.messages import message_class
+
+    NavigatorState = message_class("NavigatorState")
+    with running_node(ros) as (proc, state):
+        chatter(HANDLERS)
+        report(state, test=lambda r: len(r.get("handlers", {})) == 4)
+        chatter("on button ok { happy }")  # sent again: replaces the first, one handler still
+        left = rospy.Publisher("/robot/navigators/left_navigator/state", NavigatorState, queue_size=10)
+        sonar = rospy.Publisher("/robot/sonar/head_sonar/state", PointCloud, queue_size=10)
+        try:
+            up, down = (
+                NavigatorState(button_names=["0", "1", "2"], buttons=[b, False, False], wheel=3)
+                for b in (True, False)
+            )
+            deadline = time.monotonic() + 30
+            while True:  # a press is a release then a push: the node sees each edge once
+                left.publish(down)
+                time.sleep(0.05)
+                left.publish(up)
+                try:
+                    record = report(state, test=lambda r: r["emotion"] == "happy", timeout=0.5)
+                    break
+                except AssertionError:
+                    assert time.monotonic() < deadline, "the button press never reached the node"
+            assert len(record["handlers"]) == 4 and runs(record, "line 1 'on button ok'") >= 1
+
+            # A handler runs one at a time: the signal after the button's has ended.
+            report(state, test=lambda r: r["emotion"] == "happy" and not r["playing"])
+            chatter("signal poke")
+            report(state, test=lambda r: r["emotion"] == "sad" and runs(r, "line 2") == 1)
+
+            report(state, test=lambda r: r["emotion"] == "sad" and not r["playing"])
+            near = sonar_cloud([10, 0], [0.6, 1.8])
+            record = publish_until_heard(sonar, near, state, lambda r: r["emotion"] == "angry")
+            assert runs(record, "line 3") == 1  # near once, however many readings said so
+        finally:
+            left.unregister()
+            sonar.unregister()
+        assert proc.poll() is None

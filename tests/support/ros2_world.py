@@ -23,6 +23,7 @@ DOMAINS = {
     "test_ros2_launch.py": 45,
     "test_screen_ros2.py": 46,
     "test_ros2_transport.py": 47,
+    "test_ros2_reacting.py": 48,
 }
 SPARE = range(60, 100)
 

@@ -1,0 +1,246 @@
+"""A live session driven by a worker thread of its own, so a frame loop never waits for a compile.
+
+The face node's intake (command_intake.py's, for a bare LiveFace) parsed and compiled each
+command on a thread of its own; this is that thread for a `LiveSession`. Commands and events
+come in from any thread (ROS callbacks), stamped with the clock as they arrive; the worker
+parses, hands them to the session in the order they came, and advances the session whenever
+something falls due (a step's end, a timeout, `every`, `idle`), compiling each step there. The
+frame loop reads the face with `LiveSession.frame`, which never compiles.
+
+What waits is bounded. A command that takes over replaces one still waiting to be read (it would
+be replaced the moment it started anyway: counted in `dropped`); at most `max_pending` queued
+commands wait to be read and `max_queue` read ones wait their turn; at most `max_events` events
+wait for the worker (a storm beyond that is counted in `events_dropped`, never held).
+A queued command (`~queue`) starts when the face is free: no handler running or waiting and the
+main script done. `signal NAME` alone raises the signal without the parser (a storm of them
+costs a dictionary look-up each), and never takes over.
+"""
+
+from __future__ import annotations
+
+import re
+import threading
+from collections import deque
+from typing import Callable, Deque, Dict, Optional, Tuple
+
+from ..closing import ClosedOnExit
+from ..extras import MissingTool
+from ..language import syntax_tree as n
+from ..language.diagnostics import Diagnostic, ScriptError
+from ..language.parser import parse
+from ..speech.recordings import RecordingError
+from .live_session import LiveSession
+
+MAX_PENDING = 8  # queued commands waiting to be read
+MAX_QUEUE = 32  # queued scripts read and waiting their turn
+MAX_EVENTS = 10_000  # events waiting for the worker
+BATCH = 1000  # inputs taken in one go before the session's time is advanced
+
+_SIGNAL = re.compile(r"\s*signal\s+([A-Za-z_][A-Za-z0-9_]*)\s*;?\s*", re.IGNORECASE)
+Log = Callable[[str, str], None]  # (level, text)
+
+
+class SessionIntake(ClosedOnExit):
+    """Commands and events in (from any thread); the session advanced on a worker (see above)."""
+
+    def __init__(
+        self,
+        session: LiveSession,
+        clock: Callable[[], float],
+        ready: Callable[[], None] = lambda: None,
+        log: Log = lambda level, text: None,
+        filename: str = "display_chatter",
+        max_pending: int = MAX_PENDING,
+        max_queue: int = MAX_QUEUE,
+        max_events: int = MAX_EVENTS,
+    ) -> None:
+        self.session = session
+        self.clock = clock
+        self.ready = ready  # called after the worker changed something: wakes the frame loop
+        self.log = log
+        self.filename = filename
+        self.max_pending, self.max_queue, self.max_events = max_pending, max_queue, max_events
+        self._arrived = 0  # orders commands and events as they came
+        self._latest: Optional[Tuple[int, str, float]] = None  # a take-over waiting to be read
+        self._texts: Deque[Tuple[int, str, float]] = deque()  # queued commands waiting to be read
+        self._events: Deque[Tuple[int, n.Event, float, str]] = deque()
+        self.waiting: Deque[n.Script] = deque()  # queued scripts, read, waiting for the face
+        self.dropped = 0
+        self.events_dropped = 0
+        self.posted = 0  # events handed to the session
+        self.counts: Dict[str, Dict[str, int]] = {}  # the session's, as the worker last left it
+        self._logged = session.logged
+        self._cond = threading.Condition()
+        self._closed = False
+        self.busy = False
+        self._thread = threading.Thread(target=self._work, name="baxterface-session", daemon=True)
+        self._thread.start()
+
+    # -- in, from any thread
+
+    def submit(self, text: str, queued: bool = False) -> Optional[str]:
+        """Hand a command over; returns why it was refused, or None."""
+        signal = _SIGNAL.fullmatch(text)
+        if signal is not None:
+            return self.post(n.Event("signal", signal.group(1).lower()), self.filename)
+        with self._cond:
+            self._arrived += 1
+            if queued:
+                if len(self._texts) >= self.max_pending:
+                    return f"refused a queued script: {self.max_pending} are already waiting to be read"
+                self._texts.append((self._arrived, text, self.clock()))
+            else:
+                if self._latest is not None:
+                    self.dropped += 1
+                self._latest = (self._arrived, text, self.clock())
+            self._cond.notify()
+        return None
+
+    def post(self, event: n.Event, source: str = "") -> Optional[str]:
+        """Hand an event over, at the clock's time now; returns why it was refused, or None."""
+        with self._cond:
+            if len(self._events) >= self.max_events:
+                self.events_dropped += 1
+                return f"dropped event {event.kind}: {self.max_events} are waiting"
+            self._arrived += 1
+            self._events.append((self._arrived, event, self.clock(), source))
+            self._cond.notify()
+        return None
+
+    def close(self) -> None:
+        with self._cond:
+            self._closed = True
+            self._cond.notify()
+
+    def idle(self) -> bool:
+        """Nothing waiting to be read or handed over, and the worker not busy."""
+        with self._cond:
+            return self._latest is None and not self._texts and not self._events and not self.busy
+
+    # -- the worker
+
+    def _work(self) -> None:
+        while True:
+            with self._cond:
+                while not self._closed and not self._has_input():
+                    wait = self._until_due()
+                    if wait is not None and wait <= 0:
+                        break
+                    self._cond.wait(wait)
+                if self._closed:
+                    return
+                self.busy = True
+            shown = self.session.face.timeline
+            try:
+                for _ in range(BATCH):  # what came meanwhile, in one go: one wake of the loop a batch
+                    with self._cond:
+                        item = self._next_input()
+                    self._do(item)
+                    if item is None:
+                        break
+                self.session.advance(self.clock())
+                self._start_queued()
+                self._forward_log()
+                self.counts = self.session.counts()
+            except Exception as e:  # noqa: BLE001 - a bug in one step must not stop the face for good
+                self.log("error", f"the live session failed: {type(e).__name__}: {e}")
+            finally:
+                self.busy = False
+            if self.session.face.timeline is not shown:  # a step began: show it now, not next tick
+                self.ready()
+
+    def _has_input(self) -> bool:
+        return self._latest is not None or bool(self._texts) or bool(self._events)
+
+    def _until_due(self) -> Optional[float]:
+        due = self.session.next_due_at()
+        return None if due is None else due - self.clock()
+
+    def _next_input(self):
+        """The input that came first, or None (only time passed)."""
+        firsts = []
+        if self._latest is not None:
+            firsts.append((self._latest[0], "take over"))
+        if self._texts:
+            firsts.append((self._texts[0][0], "queue"))
+        if self._events:
+            firsts.append((self._events[0][0], "event"))
+        if not firsts:
+            return None
+        _, kind = min(firsts)
+        if kind == "take over":
+            item, self._latest = self._latest, None
+            return (kind,) + item[1:]  # type: ignore[index]
+        if kind == "queue":
+            return (kind,) + self._texts.popleft()[1:]
+        return (kind,) + self._events.popleft()[1:]
+
+    def _do(self, item) -> None:
+        if item is None:
+            return
+        if item[0] == "event":
+            _, event, at, source = item
+            self.posted += 1
+            self.session.post(event, at, source)
+            return
+        kind, text, at = item
+        script = self._read(text)
+        if script is None:
+            return
+        if kind == "queue" and (self.waiting or not self._free()):
+            if len(self.waiting) >= self.max_queue:
+                self.log("warn", f"refused a queued script: the queue is full ({self.max_queue} scripts)")
+            else:
+                self.waiting.append(script)
+            return
+        if kind == "take over":
+            self.waiting.clear()
+        self._run(script, max(at, self.session.clock))
+
+    def _read(self, text: str) -> Optional[n.Script]:
+        try:
+            script = parse(text, self.filename)
+            recordings = self.session.recordings
+            # A recording's length is in its header, which parsing does not read: checked here.
+            unsaid = recordings.check(script) if recordings is not None and "file" in text.lower() else []
+            if unsaid:
+                raise ScriptError(unsaid, self.filename, text)
+            return script
+        except ScriptError as e:
+            self.log("error", f"bad command: {e.summary()}")
+        except RecordingError as e:
+            self.log("error", f"bad command: {ScriptError([e.diagnostic()], self.filename, text).summary()}")
+        return None
+
+    def _run(self, script: n.Script, at: float) -> None:
+        try:
+            self.session.run(script, at)
+        except MissingTool as e:  # `say` on a machine without a speech engine: refused, not fatal
+            self._bad(ScriptError([Diagnostic(0, 0, str(e))], self.filename))
+        except RecordingError as e:
+            self._bad(ScriptError([e.diagnostic()], self.filename))
+        except ScriptError as e:
+            self._bad(e)
+
+    def _bad(self, error: ScriptError) -> None:
+        self.log("error", f"bad command: {error.summary()}")
+
+    def _start_queued(self) -> None:
+        while self.waiting and self._free() and not self.session.exited:
+            self._run(self.waiting.popleft(), self.session.clock)
+            self.session.advance(self.clock())
+
+    def _free(self) -> bool:
+        """Is the face free for a queued script: no handler running or waiting, the main script done?"""
+        s = self.session
+        with s.lock:
+            return s.active is None and not s.pending and (s.main is None or s.main.done)
+
+    def _forward_log(self) -> None:
+        """The session's lines a node's log should show: handlers replaced, runs stopped, failures.
+        Every event and drop stays in the session's log and counts: a storm must not flood ROS's."""
+        lines = self.session.lines_since(self._logged)
+        self._logged = self.session.logged
+        for line in lines:
+            if "replaced" in line.text or "stopped:" in line.text or "timed out" in line.text:
+                self.log("info", line.text)
