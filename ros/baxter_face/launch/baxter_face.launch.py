@@ -29,6 +29,9 @@ ARGUMENTS = [
     ),
     ("face_policy", "nearest", "which face `follow face` follows among several: nearest, central or longest"),
     ("recordings", "", "the folder `say file` reads recordings from; empty: none is read"),
+    ("face_seen_after", "0.2", "seconds a face is found in the head camera before `face seen`"),
+    ("face_lost_after", "0.8", "seconds unseen before `face lost`"),
+    ("person_near", "1.0", "metres from the head sonar that make `person near`"),
     ("transport", "shm", "how frames reach this host's peers: shm (shared memory, UDP beside it) or default"),
 ]
 
