@@ -1,6 +1,7 @@
 """The screen's web API: the face routes every page has (web/face_api.py) over a `ScreenFace`,
 `GET /api/state`, and the events that reach its handlers: `POST /api/event` (one event line, as
-in an events file without its time) and `POST /api/touch` (where the page was tapped).
+in an events file without its time: web/face_api.py's, as the studio's) and `POST /api/touch`
+(where the page was tapped).
 
 `/` is the screen's page (static/screen.html): the face alone, filling the
 window. Imported only once the `studio` extra is known to be there.
@@ -18,12 +19,8 @@ from starlette.routing import Mount, Route
 from starlette.staticfiles import StaticFiles
 
 from ..drawing.renderer import Renderer
-from ..extras import MissingTool
 from ..language import syntax_tree as n
-from ..language.diagnostics import ScriptError
-from ..language.event_line import read_event_line
-from ..web.answers import diagnostics_json, problem
-from ..web.face_api import BadRequest, FaceApi, answered, body_json, body_text
+from ..web.face_api import BadRequest, FaceApi, answered, body_json
 from .screen_face import ScreenFace
 
 STATIC = Path(__file__).resolve().parent / "static"
@@ -54,19 +51,13 @@ class ScreenApi(FaceApi):
     def opened(self) -> None:
         self.face.open()
 
+    def fire(self, event: n.Event, source: str) -> Dict[str, Any]:
+        return self.face.post(event, source)
+
     @answered
     async def state(self, request: Request) -> Response:
         state = await run_in_threadpool(self.face.state)
         return JSONResponse({**state, "screens": len(self.pages.queues)})
-
-    @answered
-    async def event(self, request: Request) -> Response:
-        text = await body_text(request)
-        try:
-            event = read_event_line(text, "event")
-        except ScriptError as e:
-            return JSONResponse({"diagnostics": diagnostics_json(e.diagnostics)}, 400)
-        return await self._raise(event, "POST /api/event")
 
     @answered
     async def touch(self, request: Request) -> Response:
@@ -78,15 +69,4 @@ class ScreenApi(FaceApi):
             raise BadRequest('a touch is JSON with x and y, fractions of the frame: {"x": 0.3, "y": 0.4}')
         x, y = (float(v) for v in where)
         place = await run_in_threadpool(lambda: self.frames.place(self.face.face(), x, y))
-        return await self._raise(n.Event("touch", place), "a tap on the page")
-
-    async def _raise(self, event: n.Event, source: str) -> Response:
-        # In a worker thread: a handler that starts compiles its first statement.
-        try:
-            answer = await run_in_threadpool(self.face.post, event, source)
-        except ScriptError as e:  # a statement of the handler found bad only in saying it
-            return JSONResponse({"diagnostics": diagnostics_json(e.diagnostics)}, 400)
-        except MissingTool as e:  # `say` with no speech engine here
-            return JSONResponse({"diagnostics": [problem(str(e))]}, 400)
-        self.pump.wake()
-        return JSONResponse(answer)
+        return await self.raised(n.Event("touch", place), "a tap on the page")

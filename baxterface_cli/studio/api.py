@@ -3,7 +3,8 @@
 The routes every face page has (the page, commands, the frame, sounds, the
 live WebSocket) are web/face_api.py's, shared with the screen; these are the
 studio's own: the editor's checks and saves, the transport, the session, the
-robot switch. Imported only once the `studio` extra is known to be there.
+robot switch; `POST /api/event` is the screen's (web/face_api.py), its events fired at the
+script the editor plays. Imported only once the `studio` extra is known to be there.
 """
 
 from __future__ import annotations
@@ -20,9 +21,11 @@ from starlette.routing import Route
 
 from ..drawing.renderer import Renderer
 from ..language.diagnostics import ScriptError
+from ..language.syntax_tree import Event
 from ..web.face_api import BadRequest, FaceApi, Heavy, answered, body_bytes, body_json
 from ..web.request_guard import Guard
 from ..web.server import logger
+from .reacting import TooManyEvents
 from .workspace import SaveConflict, TooLargeToSave, TooManySessions, Workspace
 
 STATIC = Path(__file__).resolve().parent / "static"
@@ -56,6 +59,7 @@ class StudioApi(FaceApi):
             Route("/api/save", self.save, methods=["POST"]),
             Route("/api/transport", self.transport, methods=["POST"]),
             Route("/api/robot", self.robot, methods=["POST"]),
+            Route("/api/event", self.event, methods=["POST"]),
             Route("/api/session/export", self.export, methods=["POST"]),
             Route("/api/session/clear", self.clear, methods=["POST"]),
             *self.face_routes(),
@@ -64,6 +68,19 @@ class StudioApi(FaceApi):
     def take(self, text: str) -> Dict[str, Any]:
         """A press: played in the session (and on the robot when switched on)."""
         return {"at": self.workspace.command(text), "session": self.workspace.session()}
+
+    def fire(self, event: Event, source: str) -> Dict[str, Any]:
+        """An event fired by hand at the script the editor plays (studio/reacting.py)."""
+        try:
+            return self.workspace.event(event)
+        except TooManyEvents as e:
+            raise BadRequest(str(e)) from None
+
+    async def firing(self, event: Event, source: str) -> Dict[str, Any]:
+        # Each event runs the script again over all of them: in the editing line, bounded as the checks.
+        answer = await self.editing.run(self.fire, event, source)
+        self.pages.send({"kind": "timeline", "timeline": self.workspace.timeline()})
+        return answer
 
     def told(self, answer: Dict[str, Any]) -> None:
         self.pages.send({"kind": "session", "session": answer["session"]})
@@ -144,8 +161,9 @@ class StudioApi(FaceApi):
 
     @answered
     async def clear(self, request: Request) -> Response:
-        session = self.workspace.clear_session()
+        session = await run_in_threadpool(self.workspace.clear_session)  # the script again, without events
         self.pages.send({"kind": "session", "session": session})
+        self.pages.send({"kind": "timeline", "timeline": self.workspace.timeline()})
         self.pump.wake()
         return JSONResponse(session)
 

@@ -17,11 +17,13 @@ from ..engine.animation import Animation
 from ..engine.compiler import compile_script
 from ..engine.effects import RobotStatus
 from ..engine.timeline import Said
+from ..language.event_trace import Posted
 from ..language.parser import parse
 from ..language.syntax_tree import Script
 from ..speech.recordings import Recordings
 from ..speech.synthesis import Utterance
 from ..web.sounds import sound_key
+from . import reacting
 from .session import Pending, Session
 
 SCRIPT = "script"
@@ -88,6 +90,8 @@ class Preview:
         self.mode = SCRIPT
         self.script = parse("", "<script>")
         self.animation = Animation(compile_script(self.script, self.seed), idle, self.seed)
+        self.events: List[Posted] = []  # fired by hand at the script (studio/reacting.py)
+        self.counts: Dict[str, int] = {"runs": 0, "dropped": 0, "queued": 0}  # what its handlers did
         self._session_animation = Animation(self.session.timeline, idle, self.seed)
 
     # -- the script
@@ -95,16 +99,29 @@ class Preview:
     def load(self, script: Script) -> None:
         """Play `script` from where the transport is (MissingTool if it says something with no engine,
         RecordingError for a recording it cannot say)."""
-        self.show(script, self.prepare(script))
+        self.show(script, *self.prepare(script))
 
-    def prepare(self, script: Script) -> Animation:
+    def prepare(self, script: Script) -> Tuple[Animation, Dict[str, int]]:
         """The slow half of `load`, which changes nothing: compiled, speech synthesised, recordings
-        read. The studio does it before taking the lock the frames wait on."""
+        read; a script that reacts, run over the events fired so far. The studio does it before
+        taking the lock the frames wait on."""
+        return reacting.animation(self, script, list(self.events))
+
+    def compiled(self, script: Script) -> Animation:
+        """A script that does not react, compiled whole as `render` plays it."""
         return Animation(compile_script(script, self.seed, recordings=self.recordings), self.idle, self.seed)
 
-    def show(self, script: Script, animation: Animation) -> None:
+    def show(self, script: Script, animation: Animation, counts: Optional[Dict[str, int]] = None) -> None:
         """The quick half: play a prepared script from where the transport is."""
         self.animation, self.script = animation, script
+        if counts is not None:
+            self.counts = counts
+
+    def fired(self, t: float, now: float) -> None:
+        """An event was fired at `t`: the script plays on from there, with it."""
+        self.mode = SCRIPT
+        self.transport.seek(t, now, self.duration)
+        self.transport.play(now, self.duration)
 
     @property
     def duration(self) -> float:

@@ -201,7 +201,8 @@ class Session:
     def _compile(
         self, script: Script, start: Optional[FaceState] = None, carry: Optional[Carry] = None
     ) -> Timeline:
-        refused = not_here(script, "the studio")  # until the studio runs engine/live_session.py
+        # A press plays in the session, which is compiled: a script that reacts runs in the editor.
+        refused = not_here(script, "a press in the studio's panel (the editor's script does)")
         if refused is not None:
             raise refused
         try:

@@ -22,7 +22,6 @@ from ..core.easing import EASINGS
 from ..core.face_constants import BROWS, DIRECTIONS, EMOTIONS, LIMITS, MOUTHS
 from ..core.partial_files import PartialFile, write_atomic
 from ..core.presets import MOOD_CIRCLE
-from ..engine.session_program import not_here
 from ..engine.timeline import Timeline
 from ..extras import MissingTool
 from ..language.checker import walk
@@ -36,6 +35,7 @@ from ..web.answers import diagnostics_json, problem
 from ..web.sounds import sound_key, wav_file
 from .panel import Button, PanelError, load_panel
 from .preview import Preview
+from .reacting import Reacting, listens
 from .robot_switch import RobotSwitch
 from .session import Stale
 
@@ -123,7 +123,7 @@ class SaveConflict(Exception):
         self.version = version
 
 
-class Workspace:
+class Workspace(Reacting):
     """The studio's state; every method may be called from any thread."""
 
     def __init__(
@@ -158,6 +158,7 @@ class Workspace:
         self.version = 0
         self._disk_stamp = self._stamp(self.path)
         self._panel_stamp = self._stamp(panel) if panel else None
+        self._start_reacting()
         self.update(self.text)
 
     # -- the script
@@ -201,28 +202,23 @@ class Workspace:
             with self.lock:
                 self.text = text
             return {"diagnostics": diagnostics_json(unsaid) + diagnostics, "timeline": self.timeline()}
-        refused = not_here(script, "the studio")  # until the studio runs engine/live_session.py
-        if refused is not None:
-            with self.lock:
-                self.text = text
-            return {
-                "diagnostics": diagnostics_json(refused.diagnostics) + diagnostics,
-                "timeline": self.timeline(),
-            }
         if english and not phones_heard.available():  # the rougher mouth: say so
             diagnostics.append(problem(NO_POCKETSPHINX, "warning"))
-        animation, note = None, self.preview_note
-        try:
-            animation, note = self.preview.prepare(script), ""
-        except MissingTool as e:  # `say` with no speech engine: check is content, play is not
-            note = str(e)
-            diagnostics.append(problem(str(e), "warning"))
-        except RecordingError as e:  # changed on disk since it was read
-            diagnostics = diagnostics_json([e.diagnostic()]) + diagnostics
-        with self.lock:
-            self.text, self.preview_note = text, note
-            if animation is not None:
-                self.preview.show(script, animation)
+        prepared, note = None, self.preview_note
+        with self.firing:  # over the events fired so far: one fired meanwhile is not lost
+            try:
+                prepared, note = self.preview.prepare(script), ""
+            except MissingTool as e:  # `say` with no speech engine: check is content, play is not
+                note = str(e)
+                diagnostics.append(problem(str(e), "warning"))
+            except RecordingError as e:  # changed on disk since it was read
+                diagnostics = diagnostics_json([e.diagnostic()]) + diagnostics
+            except ScriptError as e:  # a statement the session found bad only in running it
+                diagnostics = diagnostics_json(e.diagnostics) + diagnostics
+            with self.lock:
+                self.text, self.preview_note = text, note
+                if prepared is not None:
+                    self.preview.show(script, *prepared)
         return {"diagnostics": diagnostics, "timeline": self.timeline()}
 
     def _recite(self, script: Any) -> Tuple[List[Diagnostic], bool]:
@@ -243,7 +239,8 @@ class Workspace:
 
     def timeline(self) -> Dict[str, Any]:
         with self.lock:
-            return timeline_json(self.preview.animation.timeline)
+            shown = timeline_json(self.preview.animation.timeline)
+            return {**shown, "listens": listens(self.preview.script), "fired": len(self.preview.events)}
 
     def save(self, text: Union[str, bytes], base: Optional[int] = None) -> Dict[str, Any]:
         """Write `text` as the script; SaveConflict if the file changed since version `base`.
@@ -388,6 +385,7 @@ class Workspace:
         with self.lock:
             self.preview.clear_session()
             self._sessions += 1
+        self.clear_events()
         return self.session()
 
     def export_session(self) -> Dict[str, Any]:
@@ -413,7 +411,7 @@ class Workspace:
                 self._exported[key] = target
             text = session.text_of(session.presses, target.name)
         write_atomic(target, text.encode("utf-8"))
-        return {"path": target.name, "text": text}
+        return {"path": target.name, "text": text, **self.export_events(target)}
 
     def state(self) -> Dict[str, Any]:
         """All the page needs when it loads."""

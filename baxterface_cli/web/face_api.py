@@ -30,7 +30,9 @@ from starlette.websockets import WebSocket, WebSocketDisconnect
 from ..core.face_constants import LIMITS
 from ..drawing.renderer import Renderer
 from ..extras import MissingTool
+from ..language import syntax_tree as n
 from ..language.diagnostics import ScriptError, shortened
+from ..language.event_line import read_event_line
 from ..language.source import decode
 from .answers import diagnostics_json, problem
 from .frame_pump import STATUS_EVERY, Frames, Pages, Pump, Shown
@@ -179,6 +181,36 @@ class FaceApi:
 
     def opened(self) -> None:
         """A page opened its live connection."""
+
+    def fire(self, event: n.Event, source: str) -> Dict[str, Any]:
+        """An event for the face's handlers (in a worker thread): what it did, or ScriptError."""
+        raise NotImplementedError
+
+    async def firing(self, event: n.Event, source: str) -> Dict[str, Any]:
+        """Where `fire` runs: a worker thread of the pool (the studio's waits in its editing line)."""
+        return await run_in_threadpool(self.fire, event, source)
+
+    # -- events: `POST /api/event` on every page that has one, and what a page raises itself
+
+    @answered
+    async def event(self, request: Request) -> Response:
+        """One event line, as an events file's without its time (`signal poke`), to the handlers."""
+        text = await body_text(request)
+        try:
+            event = read_event_line(text, "event")
+        except ScriptError as e:
+            return JSONResponse({"diagnostics": diagnostics_json(e.diagnostics)}, 400)
+        return await self.raised(event, "POST /api/event")
+
+    async def raised(self, event: n.Event, source: str) -> Response:
+        try:
+            answer = await self.firing(event, source)
+        except ScriptError as e:  # a statement of the handler found bad only in saying it
+            return JSONResponse({"diagnostics": diagnostics_json(e.diagnostics)}, 400)
+        except MissingTool as e:  # `say` with no speech engine here
+            return JSONResponse({"diagnostics": [problem(str(e))]}, 400)
+        self.pump.wake()
+        return JSONResponse(answer)
 
     # -- commands: one path, whether they come over HTTP or from another thread
 

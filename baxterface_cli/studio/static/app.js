@@ -128,6 +128,7 @@
     duration = timeline.duration;
     spans = timeline.spans;
     scriptSounds = timeline.sounds;
+    showListens(timeline.listens || [], timeline.fired || 0);
     voice.prefetch(scriptSounds);
     $("scrub").max = String(duration || 1);
     const ol = $("timeline");
@@ -254,6 +255,31 @@
       ? ""
       : (data.diagnostics || [{ message: data.error }]).map((d) => (d.line ? `${d.line}:${d.column}: ` : "") + d.message).join("\n");
     if (ok) showSession(data.session);
+    return ok;
+  }
+
+  // The events bar: a button for each event the script's handlers wait for, and a line for any.
+  function showListens(listens, fired) {
+    const bar = $("event-buttons");
+    bar.replaceChildren();
+    for (const line of listens) {
+      const button = document.createElement("button");
+      button.type = "button";
+      button.className = "press";
+      button.textContent = line;
+      button.onclick = () => fire(line);
+      bar.appendChild(button);
+    }
+    bar.title = `${fired} event${fired === 1 ? "" : "s"} fired in this session`;
+  }
+
+  async function fire(line) {
+    const { ok, data } = await api("POST", "/api/event", line);
+    const said = ok
+      ? `${data.event} at ${data.at} s: ran ${data.runs}, dropped ${data.dropped}, queued ${data.queued}`
+      : (data.diagnostics || [{ message: data.error }]).map((d) => (d.line ? `${d.line}:${d.column}: ` : "") + d.message).join("\n");
+    $("event-result").textContent = said;
+    $("event-result").classList.toggle("fired", ok);
     return ok;
   }
 
@@ -532,6 +558,17 @@
       link.download = data.path;
       link.textContent = "download";
       result.append(`wrote ${data.path} beside the script `, link);
+      if (data.events_path) {
+        const events = document.createElement("a");
+        events.href = URL.createObjectURL(new Blob([data.events_text], { type: "text/plain" }));
+        events.download = data.events_path;
+        events.textContent = "events";
+        result.append(`; the script and its events as ${data.script_path} and ${data.events_path} `, events);
+      }
+    };
+    $("events-bar").onsubmit = async (event) => {
+      event.preventDefault();
+      if (await fire($("event-line").value)) $("event-line").value = "";
     };
     $("clear").onclick = async () => {
       const { data } = await api("POST", "/api/session/clear");
