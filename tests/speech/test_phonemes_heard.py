@@ -12,14 +12,14 @@ import unicodedata
 
 import numpy as np
 import pytest
-from test_recordings import blocked_env
+from test_recordings import agreement, blocked_env  # the right-frames measure, one copy
 
 from baxterface_cli import parse
 from baxterface_cli.core.face_constants import REST
 from baxterface_cli.engine.compiler import compile_script
 from baxterface_cli.speech.soundtrack import write_wav
 from baxterface_cli.speech.synthesis import Phoneme, Utterance
-from baxterface_cli.speech.visemes import mouth_track, shape_at
+from baxterface_cli.speech.visemes import shape_at
 from conftest import baxterface
 
 pytestmark = pytest.mark.xdist_group("recordings")
@@ -29,7 +29,7 @@ pytest.importorskip("pocketsphinx")
 
 TEXT = "Would you carry the heavy parcel to my desk? Thank you, that helps a lot."
 VOICE, RATE = "en-gb-x-gbcwmd", 155
-PAD, FPS = 0.4, 30
+PAD = 0.4
 RECOGNISED, HEARD = "phonemes recognised", "phonemes heard"
 
 
@@ -59,18 +59,6 @@ def recording(engine, folder, name, text=TEXT, voice=VOICE, rate=RATE, snr=30.0,
 def said_from(folder, statement):
     (said,) = compile_script(parse(statement, str(folder / "talk.face"))).speech
     return said
-
-
-def frames(track, duration):
-    return [shape_at(track, (i + 0.5) / FPS)[0] for i in range(int(duration * FPS))]
-
-
-def agreement(truth, track):
-    """The share of the voice's frames where `track` shows the shape `say`'s mouth shows."""
-    expected = mouth_track(truth)
-    first, last = int(expected[0].at * FPS), int(expected[-1].at * FPS)
-    pairs = list(zip(frames(expected, truth.duration), frames(track, truth.duration)))[first:last]
-    return sum(a == b for a, b in pairs) / len(pairs)
 
 
 @pytest.fixture(scope="module")
