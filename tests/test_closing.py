@@ -5,25 +5,24 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from baxterface_cli.engine.command_intake import Intake
-from baxterface_cli.engine.live_face import LiveFace
+from baxterface_cli.engine.live_session import LiveSession
+from baxterface_cli.engine.session_intake import SessionIntake
 from baxterface_cli.robot.camera_watch import CameraWatch
 from waiting import eventually
 
 
 def test_an_intake_prepares_commands_inside_its_block_and_its_worker_ends_with_it():
-    live = LiveFace(idle=False, seed=1, now=0.0)
-    with Intake(live, lambda: 0.0) as intake:
+    session = LiveSession(idle=False, seed=1, now=0.0)
+    with SessionIntake(session, lambda: 0.0) as intake:
         assert intake.submit("look 40 0 in 1s") is None
-        eventually(intake.idle)
-        assert intake.hand_over(0.0, warn=pytest.fail, error=pytest.fail)
+        eventually(lambda: intake.idle() and session.main is not None)
         assert intake._thread.is_alive()
     eventually(lambda: not intake._thread.is_alive())
 
 
 def test_a_block_that_fails_still_closes_the_intake():
-    live = LiveFace(idle=False, seed=1, now=0.0)
-    with pytest.raises(ZeroDivisionError), Intake(live, lambda: 0.0) as intake:
+    session = LiveSession(idle=False, seed=1, now=0.0)
+    with pytest.raises(ZeroDivisionError), SessionIntake(session, lambda: 0.0) as intake:
         1 / 0  # noqa: B018
     eventually(lambda: not intake._thread.is_alive())
 

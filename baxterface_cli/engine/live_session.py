@@ -17,7 +17,7 @@ are; whatever stops, its speech stops with it and the mouth comes to rest.
 
 Every public method may be called from any thread (one lock). A frame loop that must never wait
 for a compile (a `say` takes espeak-ng's time) calls `frame`, which never compiles, and leaves
-`advance` to a worker of its own (command_intake.SessionIntake).
+`advance` to a worker of its own (session_intake.SessionIntake).
 """
 
 from __future__ import annotations

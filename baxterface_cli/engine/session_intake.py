@@ -1,7 +1,7 @@
 """A live session driven by a worker thread of its own, so a frame loop never waits for a compile.
 
-The face node's intake (command_intake.py's, for a bare LiveFace) parsed and compiled each
-command on a thread of its own; this is that thread for a `LiveSession`. Commands and events
+The face node's intake: each command is parsed and compiled on a thread of its own, for the
+node's `LiveSession`. Commands and events
 come in from any thread (ROS callbacks), stamped with the clock as they arrive; the worker
 parses, hands them to the session in the order they came, and advances the session whenever
 something falls due (a step's end, a timeout, `every`, `idle`), compiling each step there. The

@@ -2,14 +2,14 @@
 
 from __future__ import annotations
 
-import time
-
 import pytest
 
 from baxterface_cli.core.face_constants import EMOTIONS
 from baxterface_cli.core.presets import emotion_preset
-from baxterface_cli.engine.command_intake import Intake
 from baxterface_cli.engine.live_face import LiveFace
+from baxterface_cli.engine.live_session import LiveSession
+from baxterface_cli.engine.session_intake import SessionIntake
+from tests.support.waiting import eventually
 
 
 @pytest.mark.parametrize("seed", range(4))
@@ -63,22 +63,17 @@ def test_statements_not_yet_begun_are_dropped():
 
 def test_the_node_intake_takes_over_the_same_way():
     now = [0.0]
-    live = LiveFace(idle=False, seed=0, now=0.0)
-    intake = Intake(live, lambda: now[0])
+    session = LiveSession(idle=False, seed=0, now=0.0)
+    with SessionIntake(session, lambda: now[0], log=lambda level, text: pytest.fail(text)) as intake:
 
-    def send(text):
-        assert intake.submit(text) is None
-        deadline = time.monotonic() + 60
-        while not intake.idle():  # prepared on the intake's thread
-            assert time.monotonic() < deadline, "the intake did not finish"
-            time.sleep(0.01)
-        intake.hand_over(now[0], warn=pytest.fail, error=pytest.fail)
+        def send(text):
+            assert intake.submit(text) is None
+            eventually(intake.idle, timeout=60)  # prepared on the intake's thread
 
-    send("happy")
-    now[0] = 2.0
-    send("sad")
-    now[0] = 2.1
-    send("wink left")
-    shown = live.state(5.0)
+        send("happy")
+        now[0] = 2.0
+        send("sad")
+        now[0] = 2.1
+        send("wink left")
+        shown = session.frame(5.0)[0]
     assert shown.emotion == "sad" and shown.skin == EMOTIONS["sad"].skin
-    intake.close()

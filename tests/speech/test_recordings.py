@@ -268,22 +268,26 @@ def test_a_confined_folder_refuses_paths_that_leave_it(recorded, tmp_path):
 
 
 def test_the_live_face_reads_no_recording_unless_given_a_folder(recorded):
-    from baxterface_cli.engine.command_intake import Intake
     from baxterface_cli.engine.live_face import LiveFace
+    from baxterface_cli.engine.live_session import LiveSession
+    from baxterface_cli.engine.session_intake import SessionIntake
     from baxterface_cli.speech.recordings import Recordings
+    from waiting import eventually
 
     folder, _ = recorded
     with pytest.raises(Exception, match="reads no recordings"):
         LiveFace(idle=False).command('say file "said.wav"', 0.0)
-    live = LiveFace(idle=False, recordings=Recordings(folder, confined=True))
-    intake = Intake(live, lambda: 0.0)
-    prepared = intake._prepare(f'say file "{folder}/../said.wav"', False, 1)
-    assert prepared.timeline is None and "outside" in prepared.error.summary()
-    assert prepared.error.summary().startswith("display_chatter:1:10: error: recording")
-    prepared = intake._prepare('say file "said.wav"', False, 2)
-    (said,) = prepared.timeline.speech
+    session = LiveSession(idle=False, recordings=Recordings(folder, confined=True))
+    logged = []
+    with SessionIntake(session, lambda: 0.0, log=lambda level, text: logged.append(text)) as intake:
+        intake.submit(f'say file "{folder}/../said.wav"')
+        eventually(lambda: logged)
+        assert "outside" in logged[0]
+        assert logged[0].startswith("bad command: display_chatter:1:10: error: recording"), logged
+        intake.submit('say file "said.wav"')
+        eventually(lambda: intake.idle() and session.face.timeline.speech)
+        (said,) = session.face.timeline.speech
     assert said.utterance.recording.name == "said.wav"
-    intake.close()
 
 
 def test_a_bag_asks_sound_play_to_play_the_recording_file(aligned):
