@@ -403,6 +403,7 @@ class LiveSession:
             tuple(run.script.definitions.values()) + (step.statement,),
             run.script.filename,
             source=run.script.source,
+            legacy=run.script.legacy,  # the old node's commands cut, as the old node did
         )
         timeline = self._compile(script, at_rest(playing, into), Carry(playing, into) if run.carry else None)
         run.carry = True
