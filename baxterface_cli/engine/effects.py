@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, NamedTuple, Optional
+from typing import TYPE_CHECKING, Any, NamedTuple, Optional, Sequence
 
 from ..core.face_constants import TIMING, FollowTarget
 from ..language.statements import quoted, radians_and_degrees
@@ -192,6 +192,16 @@ class StatusFold(EffectHandler):
 
     def speech(self, effect: Speech, at: float) -> None:
         self.status = self.status._replace(saying=effect.utterance.said, saying_until=at + effect.duration)
+
+
+def fold_status(cues: Sequence[Cue], t: float, start: Optional[RobotStatus] = None) -> RobotStatus:
+    """The robot's status at `t`: `start` with every cue (in time order) up to `t` folded in."""
+    fold = StatusFold(start)
+    for cue in cues:
+        if cue.at > t:
+            break
+        cue.effect.visit(fold, cue.at)
+    return fold.status
 
 
 class EffectWords(EffectHandler):

@@ -13,7 +13,7 @@ import dataclasses
 from typing import Any, List, Sequence, Tuple
 
 from ..core.face_state import FaceState
-from .effects import Cue, RobotStatus, StatusFold
+from .effects import Cue, RobotStatus, fold_status
 from .timeline import Said, Span, Timeline
 
 Segments = Sequence[Tuple[float, Timeline]]
@@ -94,12 +94,7 @@ class Stitched:
         return [said for said in self.speech[:i] if t < said.end]
 
     def status(self, t: float, start: Any = None) -> RobotStatus:
-        fold = StatusFold(start)
-        for cue in self.cues:
-            if cue.at > t:
-                break
-            cue.effect.visit(fold, cue.at)
-        return fold.status
+        return fold_status(self.cues, t, start)
 
 
 def cut_short(said: Said, start: float, stop: float) -> Said:

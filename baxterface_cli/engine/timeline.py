@@ -16,7 +16,7 @@ from ..core.expression import Expression
 from ..core.face_constants import REST
 from ..core.face_state import FaceState
 from ..core.presets import nearest_parts, speech_mouth
-from .effects import Cue, RobotStatus, StatusFold
+from .effects import Cue, RobotStatus, fold_status
 from .pictures import PartsChange, picture_changes
 from .shape_tracks import ShapeTracks
 from .tracks import Piece, Track
@@ -143,12 +143,7 @@ class Timeline:
 
     def status(self, t: float, start: Optional[RobotStatus] = None) -> RobotStatus:
         """The robot's status at t: `start` with every cue up to t folded in."""
-        fold = StatusFold(start)
-        for cue in self.cues:
-            if cue.at > t:
-                break
-            cue.effect.visit(fold, cue.at)
-        return fold.status
+        return fold_status(self.cues, t, start)
 
     def frame_times(self, fps: float) -> List[float]:
         """Frame times from 0 through the end, the last frame at the end itself."""
