@@ -35,6 +35,8 @@ import time
 import tracemalloc
 from pathlib import Path
 
+from node_latency import Frames  # the frames a subscriber receives, with their times
+
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
@@ -47,17 +49,6 @@ STORM_SCRIPT = (
     "default\n"  # the node starts asleep: a blink on closed lids shows nothing
     "forever { look up in 0.2s; look down in 0.2s }"
 )
-
-
-class Frames:
-    def __init__(self, link) -> None:
-        self.times = []
-        self.event = threading.Event()
-        self.sub = link.subscribe("/robot/xdisplay", "sensor_msgs/Image", self._got, queue=10)
-
-    def _got(self, msg) -> None:
-        self.times.append(time.monotonic())
-        self.event.set()
 
 
 class State:
