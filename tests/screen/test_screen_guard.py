@@ -17,7 +17,7 @@ import threading
 import time
 
 import pytest
-from raw_http import HOSTILE_HOSTS, ask, closed_by_server, upgrade
+from raw_http import HOSTILE_HOSTS, answered, ask, closed_by_server, upgrade
 
 from studio_server import running_screen
 from waiting import eventually
@@ -64,23 +64,12 @@ def test_silent_connections_do_not_keep_a_request_out(tmp_path):
         resource.prlimit(server.process.pid, resource.RLIMIT_NOFILE, (256, 256))
         silent = [socket.create_connection(("127.0.0.1", port), timeout=30) for _ in range(300)]
         try:
-            assert eventually(lambda: _answered(port), timeout=60)
+            assert eventually(lambda: answered(port), timeout=60)
             assert eventually(lambda: sum(map(closed_by_server, silent)) >= 300 - 128, timeout=60)
         finally:
             for sock in silent:
                 sock.close()
         assert len(server.log()) < 20, server.log()[:20]
-
-
-def _answered(port: int) -> bool:
-    connection = http.client.HTTPConnection("127.0.0.1", port, timeout=5)
-    try:
-        connection.request("GET", "/api/state")
-        return connection.getresponse().status == 200
-    except (OSError, http.client.HTTPException):
-        return False
-    finally:
-        connection.close()
 
 
 def test_a_flood_of_commands_sends_a_page_no_more_frames_than_fps_asks(tmp_path):

@@ -92,3 +92,16 @@ def closed_by_server(sock: socket.socket) -> bool:
         return False
     except OSError:
         return True
+
+
+def answered(port: int) -> bool:
+    """Whether the server on 127.0.0.1:`port` answers `GET /api/state` with 200 (False when the
+    connection fails or is cut)."""
+    connection = http.client.HTTPConnection("127.0.0.1", port, timeout=5)
+    try:
+        connection.request("GET", "/api/state")
+        return connection.getresponse().status == 200
+    except (OSError, http.client.HTTPException):
+        return False
+    finally:
+        connection.close()

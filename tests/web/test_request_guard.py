@@ -8,13 +8,12 @@ send a byte, against a studio whose open files are limited.
 from __future__ import annotations
 
 import asyncio
-import http.client
 import json
 import resource
 import socket
 
 import pytest
-from raw_http import HOSTILE_HOSTS, ask, closed_by_server, upgrade
+from raw_http import HOSTILE_HOSTS, answered, ask, closed_by_server, upgrade
 
 from baxterface_cli.web.request_guard import Guard, authority, is_loopback
 from studio_server import running_studio
@@ -157,10 +156,10 @@ def test_silent_connections_do_not_keep_a_request_out(tmp_path):
         resource.prlimit(server.process.pid, resource.RLIMIT_NOFILE, (FILES, FILES))
         silent = [socket.create_connection(("127.0.0.1", port), timeout=30) for _ in range(SILENT)]
         try:
-            assert eventually(lambda: _answered(port), timeout=60)
+            assert eventually(lambda: answered(port), timeout=60)
             # Past the head's deadline, the server has closed every one of them (the oldest at once).
             eventually(lambda: all(closed_by_server(sock) for sock in silent), timeout=60)
-            assert _answered(port)
+            assert answered(port)
         finally:
             for sock in silent:
                 sock.close()
@@ -180,14 +179,3 @@ def test_a_head_sent_a_byte_at_a_time_is_cut_off(studio):
             return closed_by_server(sock)
 
         assert eventually(cut_off, timeout=60)
-
-
-def _answered(port: int) -> bool:
-    connection = http.client.HTTPConnection("127.0.0.1", port, timeout=5)
-    try:
-        connection.request("GET", "/api/state")
-        return connection.getresponse().status == 200
-    except (OSError, http.client.HTTPException):
-        return False
-    finally:
-        connection.close()
