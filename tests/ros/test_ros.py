@@ -172,14 +172,25 @@ def chatter(text, topic="/display_chatter"):
     import rospy
     from std_msgs.msg import String
 
-    with warnings.catch_warnings():  # rospy warns that a publisher without a queue blocks: meant
-        warnings.simplefilter("ignore", SyntaxWarning)
-        pub = rospy.Publisher(topic, String, queue_size=None)  # publish() writes before it returns
-    try:
-        wait_for_listeners(pub)
-        pub.publish(String(text))
-    finally:
-        pub.unregister()
+    # The master tells the node of a publisher's going and of the next one's coming from two
+    # threads of its own, so now and then the news of the going lands last and the node never
+    # connects to the new one: a publisher that nobody joins in a few seconds is made again.
+    deadline = time.monotonic() + 20
+    while True:
+        with warnings.catch_warnings():  # rospy warns that a publisher without a queue blocks: meant
+            warnings.simplefilter("ignore", SyntaxWarning)
+            pub = rospy.Publisher(topic, String, queue_size=None)  # publish() writes before it returns
+        try:
+            try:
+                wait_for_listeners(pub, timeout=min(5.0, deadline - time.monotonic()))
+            except AssertionError:
+                if time.monotonic() >= deadline:
+                    raise
+                continue
+            pub.publish(String(text))
+            return
+        finally:
+            pub.unregister()
 
 
 def pixel(image, x, y):
