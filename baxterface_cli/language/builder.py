@@ -59,7 +59,7 @@ def _grammar_text() -> str:
     return resource("grammar/face.lark").read_text(encoding="utf-8")
 
 
-class _Parser:
+class ThreadParser:
     """A thread's parser, with the builder lark calls as it reduces.
 
     Building while parsing skips making and walking a tree: a third of the
@@ -76,7 +76,7 @@ _UNIT_WORDS = frozenset(unit for units in UNITS.values() for unit in units if un
 _NUMBER_BEFORE = re.compile(r"(?<![\w.])([-+]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+))[ \t]+$")
 
 
-def _spaced_unit(text: str, at: int, word: str) -> str:
+def spaced_unit(text: str, at: int, word: str) -> str:
     """For a unit written apart from its number (`0.5 s`), how to write it; or ''."""
     if word.lower() not in _UNIT_WORDS:
         return ""
@@ -252,7 +252,7 @@ class _Builder(ExpressionRules, SpeechRules, ReactionRules, Transformer):
 
     def easing(self, children: List[Token]) -> str:
         (token,) = children
-        spaced = _spaced_unit(self.text, token.start_pos, str(token))
+        spaced = spaced_unit(self.text, token.start_pos, str(token))
         if spaced:
             self._error(token, f"unknown easing '{token}' {spaced}")
             return "linear"
@@ -355,9 +355,9 @@ class _Direction(tuple):
 _LOCAL = threading.local()
 
 
-def _parser() -> _Parser:
+def thread_parser() -> ThreadParser:
     """This thread's parser, made on first use."""
     parser = getattr(_LOCAL, "parser", None)
     if parser is None:
-        parser = _LOCAL.parser = _Parser()
+        parser = _LOCAL.parser = ThreadParser()
     return parser

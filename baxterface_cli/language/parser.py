@@ -13,7 +13,7 @@ from typing import Any, List, Optional, Tuple, Union
 
 from ..core.face_constants import LIMITS
 from . import syntax_tree as n
-from .builder import _parser, grammar
+from .builder import grammar, thread_parser
 from .checker import check
 from .diagnostics import Diagnostic, ScriptError, keep_first
 from .recovery import close_braces, parse_recovering, unshifted
@@ -54,7 +54,7 @@ def _build(text: str, diagnostics: List[Diagnostic]) -> Tuple[Tuple[Any, ...], b
     if virtual is None:
         return (), False
     found: List[Diagnostic] = []
-    builder = _parser().builder
+    builder = thread_parser().builder
     builder.begin(closed, lambda line: unshifted(line, virtual) or line)
     statements = parse_recovering(closed, found)
     for d in found:

@@ -15,7 +15,7 @@ from lark.exceptions import UnexpectedCharacters, UnexpectedInput, UnexpectedTok
 from lark.lexer import PatternStr
 
 from ..core.face_constants import LIMITS
-from .builder import _Parser, _parser, _spaced_unit
+from .builder import ThreadParser, spaced_unit, thread_parser
 from .diagnostics import Diagnostic, did_you_mean
 from .source import diagnostic_at
 
@@ -106,7 +106,7 @@ def parse_recovering(text: str, diagnostics: List[Diagnostic]) -> Optional[List[
     statements: List[Any] = []
     budget = _RECOVERY_BUDGET
     errors = 0
-    parser = _parser()
+    parser = thread_parser()
     builder = parser.builder
     for start, end in _chunks(text):
         chunk = _filler(text, start) + text[start:end]
@@ -211,7 +211,7 @@ def _blank_statement(text: str, e: UnexpectedInput, stands_alone: Callable[[str]
     return text[:start] + filler + text[end:]
 
 
-def _stands_alone(parser: _Parser, word: str) -> bool:
+def _stands_alone(parser: ThreadParser, word: str) -> bool:
     """Does `word` parse as a whole statement (a command with no arguments)?"""
     builder = parser.builder
     kept, builder.diagnostics = builder.diagnostics, []
@@ -248,7 +248,7 @@ _TERMINAL_NAMES = {
 def _describe_terminal(name: str) -> str:
     if name in _TERMINAL_NAMES:
         return _TERMINAL_NAMES[name]
-    for terminal in _parser().lark.terminals:  # the parser at hand: no second grammar to build
+    for terminal in thread_parser().lark.terminals:  # the parser at hand: no second grammar to build
         if terminal.name == name and isinstance(terminal.pattern, PatternStr):
             return f"'{terminal.pattern.value.lower()}'"
     return name.lower().replace("_", " ")
@@ -273,7 +273,7 @@ def _syntax_diagnostic(e: UnexpectedInput, text: str) -> Diagnostic:
         char = text[e.pos_in_stream]
         shown = repr(char) if not char.isprintable() or char in "'\"" else f"'{char}'"
         expected, keywords = _expected(e.allowed or ())
-        spaced = _spaced_unit(text, e.pos_in_stream, char)
+        spaced = spaced_unit(text, e.pos_in_stream, char)
         string = _STRING.match(text, e.pos_in_stream) if char == '"' else None
         if string is not None and not _closed_string(string.group()):
             message = "unterminated string: it needs a closing '\"' on the same line"
@@ -294,7 +294,7 @@ def _syntax_diagnostic(e: UnexpectedInput, text: str) -> Diagnostic:
         else:
             found = f"'{token.value}'"
         message = f"unexpected {found}; expected {expected}"
-        spaced = _spaced_unit(text, token.start_pos, str(token)) if token.type == "NAME" else ""
+        spaced = spaced_unit(text, token.start_pos, str(token)) if token.type == "NAME" else ""
         if spaced:
             message = f"unexpected {found} {spaced}"
         elif token.type not in ("$END", "_NL") and keywords:
