@@ -212,7 +212,7 @@ studio: venv-studio system-play
 # Rebuild the studio's editor (CodeMirror, from npm) into baxterface_cli/studio/static/editor.js;
 # only when changing it: the built file is committed, and nothing needs Node at run time.
 editor:
-	cd baxterface_cli/studio/web && npm ci --no-audit --no-fund && npm run build
+	cd baxterface_cli/studio/editor_recipe && npm ci --no-audit --no-fund && npm run build
 
 clean:
 	rm -rf $(VENV) $(VENV38) $(VENV_ROS) $(UV_DIR) .pytest_cache .hypothesis .ruff_cache build dist
