@@ -32,28 +32,36 @@ def _row(start: float, end: float, what: str) -> str:
 
 def explained(timeline: Any, grouped: bool = False, session: Sequence[Tuple[float, str]] = ()) -> List[str]:
     """One line per statement, face change, robot cue and spoken word (and, for a script run by
-    the live session, per line of its log: `session`, (time, what) pairs).
+    the live session, per line of its log: `session`, (time, what) pairs, all of them, in order).
 
     In time order by default; `grouped` lists the statements, then the session's lines, the face
-    changes, the robot cues and the words, each group in time order.
+    changes, the robot cues and the words, each group in time order. Lines at one time read in the
+    order things happened, where the session's run says it (a stitched timeline's `marks`): a
+    handler's statement that takes no time comes after the handler runs and before it ends.
     """
-    rows: List[Tuple[float, int, int, str]] = []  # (time, kind, order of appearance, line)
+    rows: List[Tuple[float, int, int, int, str]] = []  # (time, step, kind, order of appearance, line)
 
-    def add(start: float, end: float, kind: int, what: str) -> None:
-        rows.append((start, kind, len(rows), _row(start, end, what)))
+    def add(start: float, end: float, step: int, kind: int, what: str) -> None:
+        rows.append((start, step, kind, len(rows), _row(start, end, what)))
 
-    for at, what in session:
-        add(at, at, _SESSION, f"react {what}")
-    for span in timeline.spans:
-        add(span.start, span.end, _STATEMENT, f"line {span.line:<4} {span.text}")
-    for change in timeline.parts:
-        p = change.parts
-        add(change.at, change.at, _FACE, f"face  skin {p.skin}, mouth {p.mouth}, brows {p.brows}")
+    marks = getattr(timeline, "marks", None)
+    pieces = getattr(timeline, "pieces", [timeline])  # a stitched timeline's, each as it played
+    # The session's line i and each timeline it began, in the order they came: the timeline begun
+    # after the first `mark` lines of the log reads after line mark - 1 and before line mark.
+    steps = [0] * len(pieces) if marks is None else [2 * m for m in marks]
+    for i, (at, what) in enumerate(session):
+        add(at, at, 0 if marks is None else 2 * i + 1, _SESSION, f"react {what}")
     words = EffectWords()
-    for cue in timeline.cues:
-        add(cue.at, cue.at, _ROBOT, f"robot {cue.effect.visit(words, cue.at)}")
-    for said in timeline.speech:
-        for word in said.utterance.words:
-            add(said.at + word.at, said.at + word.at, _WORD, f"word  {word.text}")
-    order = (lambda r: (_GROUPS[r[1]], r[0], r[2])) if grouped else (lambda r: (r[0], r[1], r[2]))
-    return [row[3] for row in sorted(rows, key=order)]
+    for step, piece in zip(steps, pieces):
+        for span in piece.spans:
+            add(span.start, span.end, step, _STATEMENT, f"line {span.line:<4} {span.text}")
+        for change in piece.parts:
+            p = change.parts
+            add(change.at, change.at, step, _FACE, f"face  skin {p.skin}, mouth {p.mouth}, brows {p.brows}")
+        for cue in piece.cues:
+            add(cue.at, cue.at, step, _ROBOT, f"robot {cue.effect.visit(words, cue.at)}")
+        for said in piece.speech:
+            for word in said.utterance.words:
+                add(said.at + word.at, said.at + word.at, step, _WORD, f"word  {word.text}")
+    by_group = lambda r: (_GROUPS[r[2]], r[0], r[1], r[3])  # noqa: E731
+    return [row[4] for row in sorted(rows, key=by_group if grouped else None)]

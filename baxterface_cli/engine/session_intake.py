@@ -14,6 +14,12 @@ wait for the worker (a storm beyond that is counted in `events_dropped`, never h
 A queued command (`~queue`) starts when the face is free: no handler running or waiting and the
 main script done. `signal NAME` alone raises the signal without the parser (a storm of them
 costs a dictionary look-up each), and never takes over.
+
+A sender that must answer what its input did (the screen's HTTP requests) hands it over with
+`take` or `posting` and gets a future, done once the worker has handed it to the session (a
+failure to compile is the future's, not the log's); `settled` waits until everything handed over
+so far is in the session. The sender waits, on a thread of its own or in its event loop; the
+frame loop never does.
 """
 
 from __future__ import annotations
@@ -21,7 +27,8 @@ from __future__ import annotations
 import re
 import threading
 from collections import deque
-from typing import Callable, Deque, Dict, Optional, Tuple
+from concurrent.futures import Future
+from typing import Callable, Deque, Dict, Optional, Tuple, Union
 
 from ..closing import ClosedOnExit
 from ..extras import MissingTool
@@ -38,6 +45,16 @@ BATCH = 1000  # inputs taken in one go before the session's time is advanced
 
 _SIGNAL = re.compile(r"\s*signal\s+([A-Za-z_][A-Za-z0-9_]*)\s*;?\s*", re.IGNORECASE)
 Log = Callable[[str, str], None]  # (level, text)
+Said = Union[str, n.Script]  # a command's text, or a script its sender has read already
+
+
+class Refused(Exception):
+    """An input the intake could not take: too many are waiting (the reason is the message)."""
+
+
+def _totals(session: LiveSession) -> Dict[str, int]:
+    counts = session.counts().values()
+    return {key: sum(c[key] for c in counts) for key in ("runs", "dropped", "queued")}
 
 
 class SessionIntake(ClosedOnExit):
@@ -61,9 +78,11 @@ class SessionIntake(ClosedOnExit):
         self.filename = filename
         self.max_pending, self.max_queue, self.max_events = max_pending, max_queue, max_events
         self._arrived = 0  # orders commands and events as they came
-        self._latest: Optional[Tuple[int, str, float]] = None  # a take-over waiting to be read
-        self._texts: Deque[Tuple[int, str, float]] = deque()  # queued commands waiting to be read
-        self._events: Deque[Tuple[int, n.Event, float, str]] = deque()
+        self._handled = 0  # the last of them the worker has handed to the session (or let go)
+        # Each with the future its sender waits on, if it waits: (order, text, time, future).
+        self._latest: Optional[Tuple[int, Said, float, Optional[Future]]] = None  # a take-over
+        self._texts: Deque[Tuple[int, Said, float, Optional[Future]]] = deque()  # queued, unread
+        self._events: Deque[Tuple[int, n.Event, float, str, Optional[Future]]] = deque()
         self.waiting: Deque[n.Script] = deque()  # queued scripts, read, waiting for the face
         self.dropped = 0
         self.events_dropped = 0
@@ -83,34 +102,71 @@ class SessionIntake(ClosedOnExit):
         signal = _SIGNAL.fullmatch(text)
         if signal is not None:
             return self.post(n.Event("signal", signal.group(1).lower()), self.filename)
+        return self._hand(text, queued, None)
+
+    def take(self, script: n.Script) -> Future:
+        """Hand over a script already read, to take over as a command does: a future, done (None)
+        once the session has it, or holding the ScriptError that stopped it."""
+        done: Future = Future()
+        refusal = self._hand(script, False, done)
+        if refusal is not None:
+            done.set_exception(Refused(refusal))
+        return done
+
+    def _hand(self, said: Said, queued: bool, done: Optional[Future]) -> Optional[str]:
         with self._cond:
+            if self._closed:
+                return "refused a command: the face has stopped"
             self._arrived += 1
             if queued:
                 if len(self._texts) >= self.max_pending:
                     return f"refused a queued script: {self.max_pending} are already waiting to be read"
-                self._texts.append((self._arrived, text, self.clock()))
+                self._texts.append((self._arrived, said, self.clock(), done))
             else:
                 if self._latest is not None:
                     self.dropped += 1
-                self._latest = (self._arrived, text, self.clock())
+                    _let_go(self._latest[3])
+                self._latest = (self._arrived, said, self.clock(), done)
             self._cond.notify()
         return None
 
-    def post(self, event: n.Event, source: str = "") -> Optional[str]:
+    def post(self, event: n.Event, source: str = "", done: Optional[Future] = None) -> Optional[str]:
         """Hand an event over, at the clock's time now; returns why it was refused, or None."""
         with self._cond:
+            if self._closed:
+                return f"dropped event {event.kind}: the face has stopped"
             if len(self._events) >= self.max_events:
                 self.events_dropped += 1
                 return f"dropped event {event.kind}: {self.max_events} are waiting"
             self._arrived += 1
-            self._events.append((self._arrived, event, self.clock(), source))
+            self._events.append((self._arrived, event, self.clock(), source, done))
             self._cond.notify()
         return None
+
+    def posting(self, event: n.Event, source: str = "") -> Future:
+        """`post`, with a future: what the event did once the session has it (the handlers' runs,
+        dropped and queued it moved, a dict), or the error (Refused, or a handler's ScriptError)."""
+        done: Future = Future()
+        refusal = self.post(event, source, done)
+        if refusal is not None:
+            done.set_exception(Refused(refusal))
+        return done
+
+    def settled(self, timeout: Optional[float] = None) -> bool:
+        """Wait until all handed over so far is in the session (False: `timeout` passed first)."""
+        with self._cond:
+            until = self._arrived
+            return self._cond.wait_for(lambda: self._handled >= until or self._closed, timeout)
 
     def close(self) -> None:
         with self._cond:
             self._closed = True
-            self._cond.notify()
+            self._cond.notify_all()
+            # Nothing will take what still waits: its senders are let go.
+            waiting = [self._latest] if self._latest is not None else []
+            for item in [*waiting, *self._texts, *self._events]:
+                if item[-1] is not None:
+                    item[-1].cancel()
 
     def idle(self) -> bool:
         """Nothing waiting to be read or handed over, and the worker not busy."""
@@ -135,9 +191,14 @@ class SessionIntake(ClosedOnExit):
                 for _ in range(BATCH):  # what came meanwhile, in one go: one wake of the loop a batch
                     with self._cond:
                         item = self._next_input()
-                    self._do(item)
                     if item is None:
                         break
+                    try:
+                        self._do(item)
+                    finally:
+                        with self._cond:
+                            self._handled = item[1]
+                            self._cond.notify_all()
                 self.session.advance(self.clock())
                 self._start_queued()
                 self._forward_log()
@@ -170,21 +231,31 @@ class SessionIntake(ClosedOnExit):
         _, kind = min(firsts)
         if kind == "take over":
             item, self._latest = self._latest, None
-            return (kind,) + item[1:]  # type: ignore[index]
+            return (kind,) + item  # type: ignore[operator]
         if kind == "queue":
-            return (kind,) + self._texts.popleft()[1:]
-        return (kind,) + self._events.popleft()[1:]
+            return (kind,) + self._texts.popleft()
+        return (kind,) + self._events.popleft()
 
     def _do(self, item) -> None:
-        if item is None:
-            return
         if item[0] == "event":
-            _, event, at, source = item
+            _, _, event, at, source, done = item
             self.posted += 1
-            self.session.post(event, at, source)
+            if done is None:
+                self.session.post(event, at, source)
+                return
+            if done.set_running_or_notify_cancel():
+                try:  # what this event did, counted as it is handed over: others may come meanwhile
+                    before = _totals(self.session)
+                    self.session.post(event, at, source)
+                    after = _totals(self.session)
+                    done.set_result({k: after[k] - before[k] for k in after})
+                except Exception as e:  # noqa: BLE001 - its sender answers it
+                    done.set_exception(e)
             return
-        kind, text, at = item
-        script = self._read(text)
+        kind, _, said, at, done = item
+        if done is not None and not done.set_running_or_notify_cancel():
+            return
+        script = self._read(said)
         if script is None:
             return
         if kind == "queue" and (self.waiting or not self._free()):
@@ -195,9 +266,11 @@ class SessionIntake(ClosedOnExit):
             return
         if kind == "take over":
             self.waiting.clear()
-        self._run(script, max(at, self.session.clock))
+        self._run(script, max(at, self.session.clock), done)
 
-    def _read(self, text: str) -> Optional[n.Script]:
+    def _read(self, text: Said) -> Optional[n.Script]:
+        if isinstance(text, n.Script):
+            return text
         try:
             script = parse(text, self.filename)
             recordings = self.session.recordings
@@ -212,18 +285,28 @@ class SessionIntake(ClosedOnExit):
             self.log("error", f"bad command: {ScriptError([e.diagnostic()], self.filename, text).summary()}")
         return None
 
-    def _run(self, script: n.Script, at: float) -> None:
+    def _run(self, script: n.Script, at: float, done: Optional[Future] = None) -> None:
         try:
             self.session.run(script, at)
         except MissingTool as e:  # `say` on a machine without a speech engine: refused, not fatal
-            self._bad(ScriptError([Diagnostic(0, 0, str(e))], self.filename))
+            self._bad(ScriptError([Diagnostic(0, 0, str(e))], self.filename), done)
         except RecordingError as e:
-            self._bad(ScriptError([e.diagnostic()], self.filename))
+            self._bad(ScriptError([e.diagnostic()], self.filename), done)
         except ScriptError as e:
-            self._bad(e)
+            self._bad(e, done)
+        except Exception as e:  # noqa: BLE001 - a bug: its sender answers it, the worker logs it
+            if done is not None:
+                done.set_exception(e)
+            raise
+        else:
+            if done is not None:
+                done.set_result(None)
 
-    def _bad(self, error: ScriptError) -> None:
-        self.log("error", f"bad command: {error.summary()}")
+    def _bad(self, error: ScriptError, done: Optional[Future] = None) -> None:
+        if done is not None:  # its sender tells it
+            done.set_exception(error)
+        else:
+            self.log("error", f"bad command: {error.summary()}")
 
     def _start_queued(self) -> None:
         while self.waiting and self._free() and not self.session.exited:
@@ -244,3 +327,10 @@ class SessionIntake(ClosedOnExit):
         for line in lines:
             if "replaced" in line.text or "stopped:" in line.text or "timed out" in line.text:
                 self.log("info", line.text)
+
+
+def _let_go(done: Optional[Future]) -> None:
+    """A take-over replaced before it was read: its sender is answered as if it had been taken,
+    as it was, and replaced the moment it started."""
+    if done is not None and done.set_running_or_notify_cancel():
+        done.set_result(None)

@@ -11,7 +11,7 @@ a `forever` with no events to react to would never end, and must be given a dura
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, List, NamedTuple, Optional
+from typing import TYPE_CHECKING, Any, List, NamedTuple, Optional
 
 from ..core.face_constants import LIMITS
 from ..language import syntax_tree as n
@@ -28,6 +28,20 @@ if TYPE_CHECKING:
 
 class NeverRests(Exception):
     """The run does not come to rest by itself: it needs a duration. The message says why, in one line."""
+
+
+class _Played(list):
+    """A session's `segments`, each timeline it began noted with how many lines its log had then:
+    `explain` reads a step after the lines that led to it, before those that followed."""
+
+    def __init__(self, session: LiveSession) -> None:
+        super().__init__()
+        self.session = session
+        self.marks: List[int] = []
+
+    def append(self, segment: Any) -> None:
+        self.marks.append(self.session.logged)
+        super().append(segment)
 
 
 class SessionRun(NamedTuple):
@@ -52,26 +66,35 @@ def run_over(
     """Run `script` with the events of `trace` (none if None) for `duration` seconds, or until it
     rests (see the module's docstring); NeverRests if it would not."""
     session = LiveSession(
-        script, seed=seed, idle=False, recordings=recordings, crossfade=crossfade, record=True, log_lines=None
+        None, seed=seed, idle=False, recordings=recordings, crossfade=crossfade, record=True, log_lines=None
     )
+    played = session.segments = _Played(session)
+    session.run(script, 0.0)
     events = trace.events if trace is not None else ()
     limit = LIMITS.max_seconds if duration is None else duration
     for posted in events:
         if posted.at > limit:
             break
         session.post(posted.event, posted.at, f"{trace.filename}:{posted.line}")  # type: ignore[union-attr]
-    if duration is not None:
-        session.advance(duration)
-        end = duration
-    else:
-        last = trace.end if trace is not None else 0.0
-        session.advance(last)
-        end = _rest(session, script, bool(events))
-    segments = session.segments or []
+    end = settle(session, script, trace.end if trace is not None else 0.0, bool(events), duration)
+    # A script that never played a step (handlers, and no event for them): the face it started with.
+    segments = session.segments or [(0.0, session.face.timeline)]
     if duration is None:
         start, timeline = segments[-1]
         end = max(end, start + timeline.duration)
-    return SessionRun(Stitched(segments, end), list(session.log), session)
+    return SessionRun(Stitched(segments, end, played.marks), list(session.log), session)
+
+
+def settle(
+    session: LiveSession, script: n.Script, last: float, evented: bool, duration: Optional[float]
+) -> float:
+    """Take the session, given its events up to `last`, on to its end: `duration`, or where it
+    comes to rest (NeverRests if it would not). The studio continues a copy of its run with it."""
+    if duration is not None:
+        session.advance(duration)
+        return duration
+    session.advance(last)
+    return _rest(session, script, evented)
 
 
 def _rest(session: LiveSession, script: n.Script, evented: bool) -> float:

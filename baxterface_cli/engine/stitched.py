@@ -3,20 +3,43 @@
 
 Each timeline plays from its start until the next one starts; it is sampled exactly as it would
 be alone, at the time since its start. What it had not yet done when the next one took over is
-left out: its later cues, its words and sound past the cut.
+left out: its later cues, its words and sound past the cut. A `say` cut short is a `StoppedSpeech`
+cue, its utterance as far as it was heard: a bag tells sound_play to stop it there.
+
+A session's run also says, for each timeline, how many lines its log had when it began (`marks`):
+`explain` reads a step between the lines that led to it and those that followed, when they fall
+at the same time.
 """
 
 from __future__ import annotations
 
 import bisect
 import dataclasses
-from typing import Any, List, Sequence, Tuple
+from typing import Any, List, NamedTuple, Optional, Sequence, Tuple
 
 from ..core.face_state import FaceState
-from .effects import Cue, RobotStatus, fold_status
+from .effects import Cue, RobotStatus, Speech, fold_status
 from .timeline import Said, Span, Timeline
 
 Segments = Sequence[Tuple[float, Timeline]]
+# A `say` cut this near its end has lost only the silence kept after its voice (10 ms, the
+# synthesis's Trim.keep, and a frame's rounding of where its step ends): it was said whole.
+HEARD_WHOLE = 0.02
+
+
+@dataclasses.dataclass(frozen=True)
+class StoppedSpeech(Speech):
+    """A `say` that what came next stopped before its end (an `interrupt`, a new script, the run's
+    end): its utterance is what was heard. Everything that handles a Speech handles it as one."""
+
+
+class Piece(NamedTuple):
+    """What one segment shows, on the stitched clock, as far as it plays."""
+
+    cues: List[Cue]
+    parts: List[Any]
+    spans: List[Span]
+    speech: List[Said]
 
 
 class _Joined:
@@ -41,10 +64,11 @@ class _Joined:
 class Stitched:
     """Timelines, each from its start until the next's, as one (see the module's docstring)."""
 
-    def __init__(self, segments: Segments, duration: float) -> None:
+    def __init__(self, segments: Segments, duration: float, marks: Optional[Sequence[int]] = None) -> None:
         if not segments:
             raise ValueError("a stitched timeline needs a timeline")
         self.segments = list(segments)
+        self.marks = None if marks is None else list(marks)  # the session's log lines before each began
         self.starts = [start for start, _ in self.segments]
         self.stops = self.starts[1:] + [float("inf")]
         self.duration = duration
@@ -53,18 +77,14 @@ class Stitched:
         self.speech: List[Said] = []
         self.spans: List[Span] = []
         self.parts: List[Any] = []
+        self.pieces: List[Piece] = []
         for (start, timeline), stop in zip(self.segments, self.stops):
-            stop = min(stop, duration)
-            self.cues += [Cue(start + c.at, c.effect) for c in timeline.cues if start + c.at <= stop]
-            self.parts += [c._replace(at=start + c.at) for c in timeline.parts if start + c.at < stop]
-            for span in timeline.spans:
-                if start + span.start <= stop:
-                    cut = start + span.end > stop
-                    text = span.text + (" (stopped)" if cut else "")
-                    self.spans.append(Span(start + span.start, min(stop, start + span.end), span.line, text))
-            self.speech += [
-                cut_short(said, start, stop) for said in timeline.speech if start + said.at < stop
-            ]
+            piece = _piece(start, timeline, min(stop, duration))
+            self.pieces.append(piece)
+            self.cues += piece.cues
+            self.parts += piece.parts
+            self.spans += piece.spans
+            self.speech += piece.speech
         self.eyes = _Joined(self, "eyes")
         self.lids = _Joined(self, "lids")
         self._speech_times = [said.at for said in self.speech]
@@ -97,17 +117,47 @@ class Stitched:
         return fold_status(self.cues, t, start)
 
 
+def _piece(start: float, timeline: Timeline, stop: float) -> Piece:
+    spans = []
+    for span in timeline.spans:
+        if start + span.start <= stop:
+            cut = start + span.end > stop
+            text = span.text + (" (stopped)" if cut else "")
+            spans.append(Span(start + span.start, min(stop, start + span.end), span.line, text))
+    return Piece(
+        [
+            Cue(start + c.at, _heard_effect(c.effect, stop - start - c.at))
+            for c in timeline.cues
+            if start + c.at <= stop
+        ],
+        [c._replace(at=start + c.at) for c in timeline.parts if start + c.at < stop],
+        spans,
+        [cut_short(said, start, stop) for said in timeline.speech if start + said.at < stop],
+    )
+
+
 def cut_short(said: Said, start: float, stop: float) -> Said:
     """`said` (of a timeline started at `start`) on the stitched clock, its sound and words ending
     at `stop`."""
-    utterance = said.utterance
-    left = stop - (start + said.at)
-    if left < utterance.duration:
-        keep = max(0, int(left * utterance.sample_rate))
-        utterance = dataclasses.replace(
-            utterance,
-            samples=utterance.samples[:keep],
-            words=tuple(w for w in utterance.words if w.at < left),
-            phonemes=tuple(p for p in utterance.phonemes if p.at < left),
-        )
-    return said._replace(at=start + said.at, utterance=utterance)
+    return said._replace(at=start + said.at, utterance=_heard(said.utterance, stop - (start + said.at)))
+
+
+def _heard(utterance: Any, left: float) -> Any:
+    """`utterance` as far as it is heard in `left` seconds: its sound, words and phonemes."""
+    if left >= utterance.duration:
+        return utterance
+    keep = max(0, int(left * utterance.sample_rate))
+    return dataclasses.replace(
+        utterance,
+        samples=utterance.samples[:keep],
+        words=tuple(w for w in utterance.words if w.at < left),
+        phonemes=tuple(p for p in utterance.phonemes if p.at < left),
+    )
+
+
+def _heard_effect(effect: Any, left: float) -> Any:
+    """A Speech effect with `left` seconds to play before the next timeline: a StoppedSpeech if
+    that is less than it lasts."""
+    if not isinstance(effect, Speech) or left >= effect.utterance.duration - HEARD_WHOLE:
+        return effect
+    return StoppedSpeech(_heard(effect.utterance, left))

@@ -11,6 +11,11 @@ START is the `start` argument (seconds since the epoch) or else
 $SOURCE_DATE_EPOCH, for reproducible bags, or else the whole second the
 render began. Header stamps equal the bag times.
 
+A `say` that something stopped before its end (an `interrupt` handler, a new script, the end
+of a run with --events) is asked of sound_play as far as it was heard: its text up to the last
+word said (sound_play speaks it in its own voice), and a stop request (PLAY_STOP, as the face
+node sends) at the moment it stopped; a recording plays from its file, so the stop alone cuts it.
+
 md5sums are computed from the definitions as genmsg does; the robot and
 `rosbag play` check them. Baxter's and sound_play's definitions are those in
 ros/messages.py.
@@ -29,8 +34,17 @@ from typing import Any, Dict, List, NamedTuple, Optional, Tuple
 
 import numpy as np
 
+from ..engine.effects import Cue
+from ..engine.stitched import StoppedSpeech
 from ..extras import need
-from ..ros.effect_messages import COMMAND_TYPES, DISPLAY_TOPICS, ros_commands
+from ..ros.effect_messages import (
+    COMMAND_TYPES,
+    DISPLAY_TOPICS,
+    PLAY_STOP,
+    SOUND_SAY,
+    RosCommand,
+    ros_commands,
+)
 from ..ros.messages import DEFINITIONS, SEPARATOR
 from .sink import Export, FileSink
 
@@ -198,6 +212,39 @@ def _record(header: Dict[str, bytes], data: bytes) -> bytes:
     return _u32(len(head)) + head + _u32(len(data)) + data
 
 
+def cue_commands(cue: Cue) -> List[Tuple[float, RosCommand]]:
+    """The messages a cue makes, at their times: a stopped `say` as far as it was heard, then stopped
+    (see the module's docstring)."""
+    commands = [(cue.at, command) for command in ros_commands(cue.effect)]
+    if not isinstance(cue.effect, StoppedSpeech):
+        return commands
+    utterance, cut = cue.effect.utterance, []
+    for at, (topic, fields) in commands:
+        if fields["sound"] == SOUND_SAY:
+            fields = {**fields, "arg": said_text(utterance)}
+            if not fields["arg"]:  # stopped before its first word
+                continue
+        elif not utterance.duration:  # stopped as it began
+            continue
+        cut += [
+            (at, RosCommand(topic, fields)),
+            (at + utterance.duration, RosCommand(topic, {**fields, "command": PLAY_STOP})),
+        ]
+    return cut
+
+
+def said_text(utterance: Any) -> str:
+    """An utterance's text up to the end of the last of its words it still has, with the
+    punctuation that ends it (words are the text's own, in order, without that punctuation)."""
+    text, end = utterance.text, 0
+    for word in utterance.words:
+        found = text.find(word.text, end)
+        if found < 0:
+            break
+        end = found + len(word.text)
+    return text[: re.compile(r"\S*").match(text, end).end()] if end else ""
+
+
 def start_time() -> int:
     """The default bag start, whole seconds since the epoch: $SOURCE_DATE_EPOCH or now."""
     try:
@@ -248,7 +295,7 @@ class BagWriter(FileSink):
         self._display = DISPLAY_TOPICS[export.robot]
         # Stable: effects at one time keep the script's order (disable; enable ends enabled).
         self._commands = sorted(
-            ((self._ns(cue.at), command) for cue in export.cues for command in ros_commands(cue.effect)),
+            ((self._ns(at), command) for cue in export.cues for at, command in cue_commands(cue)),
             key=lambda c: c[0],
         )
         self._next_command = 0

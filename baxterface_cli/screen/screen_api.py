@@ -9,6 +9,8 @@ window. Imported only once the `studio` extra is known to be there.
 
 from __future__ import annotations
 
+import asyncio
+import contextlib
 from pathlib import Path
 from typing import Any, Callable, Dict
 
@@ -19,8 +21,10 @@ from starlette.routing import Mount, Route
 from starlette.staticfiles import StaticFiles
 
 from ..drawing.renderer import Renderer
+from ..engine.session_intake import Refused
 from ..language import syntax_tree as n
-from ..web.face_api import BadRequest, FaceApi, answered, body_json
+from ..language.events import in_words
+from ..web.face_api import BadRequest, Busy, FaceApi, answered, body_json
 from .screen_face import ScreenFace
 
 STATIC = Path(__file__).resolve().parent / "static"
@@ -35,6 +39,14 @@ class ScreenApi(FaceApi):
     def __init__(self, face: ScreenFace, renderer: Renderer, fps: float, log: Callable[[str], None]) -> None:
         super().__init__(face, renderer, fps, log, status_every=STATUS_EVERY)
         self.face = face
+        face.ready, face.log = self._step_began, log
+
+    def _step_began(self) -> None:
+        """The session's worker began a step (on its thread): the pump draws it now, not next tick."""
+        loop = self.loop
+        if loop is not None:
+            with contextlib.suppress(RuntimeError):  # the loop has closed: the server stopped
+                loop.call_soon_threadsafe(self.pump.wake)
 
     def routes(self) -> list:
         return [
@@ -46,13 +58,25 @@ class ScreenApi(FaceApi):
         ]
 
     def take(self, text: str) -> Dict[str, Any]:
-        return self.face.command(text)
+        try:
+            return self.face.command(text)
+        except Refused as e:
+            raise Busy(str(e)) from None
 
     def opened(self) -> None:
         self.face.open()
 
     def fire(self, event: n.Event, source: str) -> Dict[str, Any]:
         return self.face.post(event, source)
+
+    async def firing(self, event: n.Event, source: str) -> Dict[str, Any]:
+        """Waited for in the loop, holding no thread: a storm of events while a handler's `say` is
+        compiled must not take the threads the frames are drawn in."""
+        try:
+            moved = await asyncio.wrap_future(self.face.posting(event, source))
+        except Refused as e:
+            raise Busy(str(e)) from None
+        return {"event": in_words(event), **moved}
 
     @answered
     async def state(self, request: Request) -> Response:

@@ -11,6 +11,12 @@ status for the pages to play, and its sound is kept by key for them to fetch.
 A script that reacts to nothing, while no handler is installed, is compiled
 whole and played as `render` plays it (the same frames); anything else goes
 through the session, statement by statement, so a handler can pause it.
+
+The session is advanced as the face node's is: by its intake's worker
+(engine/session_intake.py), which compiles each step (a `say` waits for
+espeak-ng) while the frames are read with `LiveSession.frame`, which never
+compiles and never waits. A request that must answer what it did waits for the
+worker, on its own thread; the lock here guards only what is quick.
 """
 
 from __future__ import annotations
@@ -18,10 +24,12 @@ from __future__ import annotations
 import threading
 import time
 from collections import OrderedDict
+from concurrent.futures import Future
 from typing import Any, Callable, Dict, List, Optional
 
 from ..core.face_state import FaceState
 from ..engine.live_session import LiveSession
+from ..engine.session_intake import SessionIntake
 from ..engine.session_program import first_reacting
 from ..engine.timeline import Timeline
 from ..language import syntax_tree as n
@@ -32,6 +40,7 @@ from ..speech.synthesis import Utterance
 from ..web.sounds import sound_key, wav_file
 
 KEPT_SOUNDS = 32  # utterances whose sound a page may still ask for
+SETTLING = 10.0  # seconds `GET /api/state` waits for what was sent before it (else: as it is)
 
 
 class ScreenFace:
@@ -48,6 +57,11 @@ class ScreenFace:
         self.lock = threading.Lock()
         self.session = LiveSession(None, seed=seed, now=clock(), start=FaceState(), idle=idle)
         self.live = self.session.face
+        self.ready: Callable[[], None] = lambda: None  # the server's: a step began, draw it now
+        self.log: Callable[[str], None] = lambda text: None  # the server's log
+        said = lambda _, text: self.log(text)  # noqa: E731 - (level, text): the server's log is one level
+        woken = lambda: self.ready()  # noqa: E731 - set by the server after this
+        self.intake = SessionIntake(self.session, clock, ready=woken, log=said, filename="command")
         self.name = script.filename if script is not None else None
         self.events = 0  # posted, whether a handler took them or not
         # Compiled now, so a script that cannot play (`say` without espeak-ng) stops the start; one
@@ -61,6 +75,9 @@ class ScreenFace:
         self._sounds: OrderedDict[str, Utterance] = OrderedDict()
         self._heard: Optional[Timeline] = None  # the timeline whose sounds were kept last
 
+    def close(self) -> None:
+        self.intake.close()
+
     def _plain(self, script: Script) -> bool:
         """Is `script` played whole, as before the session: nothing in it or in the session reacts?"""
         main = self.session.main
@@ -71,10 +88,10 @@ class ScreenFace:
         self.live.begin(timeline, now)
         self._keep_sounds()
 
-    def _run(self, script: Script, now: float) -> None:
-        self._first = self._first_reacting = None
-        self.session.run(script, now)
-        self._keep_sounds()
+    def _handed(self, done: Future) -> None:
+        """The first script, handed over when the first page opened: a failure is logged."""
+        if not done.cancelled() and done.exception() is not None:
+            self.log(f"the script: {done.exception()}")
 
     def _keep_sounds(self) -> None:
         """Keep the sounds of what the face plays now, for the pages to fetch by key (under the lock)."""
@@ -94,12 +111,15 @@ class ScreenFace:
             if self._first is not None:
                 self._begin(self._first, self.clock())
             elif self._first_reacting is not None:
-                self._run(self._first_reacting, self.clock())
+                script, self._first_reacting = self._first_reacting, None
+                # Called in the server's loop: its first steps are compiled on the intake's worker.
+                self.intake.take(script).add_done_callback(self._handed)
 
     def command(self, text: str, filename: str = "command") -> Dict[str, Any]:
         """Play `text` from now, taking over from what plays (its handlers installed, its signals
         raised); ScriptError (or MissingTool) if it cannot."""
         script = parse(text, filename)
+        self.intake.settled()  # what came before (the first script, events) is in the session first
         now = self.clock()
         if self._plain(script):
             # Compiled without the lock, which every frame needs; from the face as it is now.
@@ -109,33 +129,35 @@ class ScreenFace:
                     self._begin(timeline, now)
                     return {"duration": round(timeline.duration, 3)}
         with self.lock:
-            self._run(script, self.clock())
-            installed = [in_words(s.event) for s in script.body if isinstance(s, n.On)]
-            return {"reacting": True, "installed": installed, "handlers": len(self.session.handlers)}
+            self._first = self._first_reacting = None
+        self.intake.take(script).result()  # compiled on the worker; this thread waits, frames do not
+        installed = [in_words(s.event) for s in script.body if isinstance(s, n.On)]
+        return {"reacting": True, "installed": installed, "handlers": len(self.session.handlers)}
+
+    def posting(self, event: n.Event, source: str = "") -> Future:
+        """An event now: a `wait until` it ends, its handlers run by their policies. A future: what
+        it did, as the handlers' counts moved (intake's Refused if too many wait)."""
+        with self.lock:
+            self.events += 1
+        return self.intake.posting(event, source)
 
     def post(self, event: n.Event, source: str = "") -> Dict[str, Any]:
-        """An event now: a `wait until` it ends, its handlers run by their policies. What it did,
-        as the handlers' counts moved."""
-        with self.lock:
-            before = _totals(self.session)
-            self.events += 1
-            self.session.post(event, self.clock(), source)
-            self._keep_sounds()
-            after = _totals(self.session)
-        moved = {k: after[k] - before[k] for k in after}
-        return {"event": in_words(event), **moved}
+        """`posting`, waited for: the event and what it did."""
+        return {"event": in_words(event), **self.posting(event, source).result()}
 
     def face(self) -> FaceState:
-        """The face to show now."""
+        """The face to show now: never waits for a step being compiled (the intake's worker takes
+        them), the face goes on as it plays meanwhile."""
         with self.lock:
-            # The robot's status (following stops the darts) is folded in by the tick, as on the node.
-            state, _ = self.session.tick(self.clock())
+            # The robot's status (following stops the darts) is folded in by the frame, as on the node.
+            state, _ = self.session.frame(self.clock())
             self._keep_sounds()
             return state
 
     def status(self) -> Dict[str, Any]:
         """What the pages need beside the frames: the position in what plays, and what is heard now."""
         with self.lock:
+            self._keep_sounds()  # a step the worker began since the last frame
             timeline, started = self.live.timeline, self.live.started
             now = self.clock()
         t = now - started
@@ -143,7 +165,8 @@ class ScreenFace:
         return {"kind": "status", "t": round(t, 3), "playing": True, "sounds": heard}
 
     def state(self) -> Dict[str, Any]:
-        """The face and what it is doing, for `GET /api/state`."""
+        """The face and what it is doing, for `GET /api/state`: once what was sent before is in."""
+        self.intake.settled(SETTLING)
         face = self.face()
         with self.lock:
             timeline, started, robot = self.live.timeline, self.live.started, self.live.robot
@@ -192,12 +215,8 @@ class ScreenFace:
     def sound(self, key: str) -> Optional[bytes]:
         """The WAV file of an utterance said lately (None for any other key)."""
         with self.lock:
+            self._keep_sounds()
             utterance = self._sounds.get(key)
         if utterance is None:
             return None
         return wav_file(utterance)
-
-
-def _totals(session: LiveSession) -> Dict[str, int]:
-    counts = session.counts().values()
-    return {key: sum(c[key] for c in counts) for key in ("runs", "dropped", "queued")}
