@@ -60,14 +60,19 @@ class StudioApi(FaceApi):
             Route("/api/transport", self.transport, methods=["POST"]),
             Route("/api/robot", self.robot, methods=["POST"]),
             Route("/api/event", self.event, methods=["POST"]),
+            Route("/api/touch", self.touch, methods=["POST"]),
             Route("/api/session/export", self.export, methods=["POST"]),
             Route("/api/session/clear", self.clear, methods=["POST"]),
             *self.face_routes(),
         ]
 
     def take(self, text: str) -> Dict[str, Any]:
-        """A press: played in the session (and on the robot when switched on)."""
-        return {"at": self.workspace.command(text), "session": self.workspace.session()}
+        """A press: played in the session, or taken by the script's run when it reacts (and on the
+        robot when switched on)."""
+        try:
+            return {**self.workspace.press(text), "session": self.workspace.session()}
+        except TooManyEvents as e:  # a `signal` pressed past the events a session holds
+            raise BadRequest(str(e)) from None
 
     def fire(self, event: Event, source: str) -> Dict[str, Any]:
         """An event fired by hand at the script the editor plays (studio/reacting.py)."""
@@ -84,6 +89,8 @@ class StudioApi(FaceApi):
 
     def told(self, answer: Dict[str, Any]) -> None:
         self.pages.send({"kind": "session", "session": answer["session"]})
+        if answer.get("reacting"):  # the run changed: its events bar and timeline with it
+            self.pages.send({"kind": "timeline", "timeline": self.workspace.timeline()})
 
     def _disk_changes(self) -> List[Dict[str, Any]]:
         """What changed on disk, with the new timeline after the script itself changed."""

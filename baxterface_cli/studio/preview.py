@@ -10,7 +10,7 @@ waiting.
 from __future__ import annotations
 
 import math
-from typing import Dict, List, Optional, Tuple
+from typing import Any, Dict, List, Optional, Tuple
 
 from ..core.face_state import FaceState
 from ..engine.animation import Animation
@@ -92,6 +92,7 @@ class Preview:
         self.animation = Animation(compile_script(self.script, self.seed), idle, self.seed)
         self.events: List[Posted] = []  # fired by hand at the script (studio/reacting.py)
         self.counts: Dict[str, int] = {"runs": 0, "dropped": 0, "queued": 0}  # what its handlers did
+        self.run: Any = None  # the script's run over them, kept to be continued (studio/event_run.py)
         self._session_animation = Animation(self.session.timeline, idle, self.seed)
 
     # -- the script
@@ -101,7 +102,7 @@ class Preview:
         RecordingError for a recording it cannot say)."""
         self.show(script, *self.prepare(script))
 
-    def prepare(self, script: Script) -> Tuple[Animation, Dict[str, int]]:
+    def prepare(self, script: Script) -> Tuple[Animation, Dict[str, int], Any]:
         """The slow half of `load`, which changes nothing: compiled, speech synthesised, recordings
         read; a script that reacts, run over the events fired so far. The studio does it before
         taking the lock the frames wait on."""
@@ -111,9 +112,12 @@ class Preview:
         """A script that does not react, compiled whole as `render` plays it."""
         return Animation(compile_script(script, self.seed, recordings=self.recordings), self.idle, self.seed)
 
-    def show(self, script: Script, animation: Animation, counts: Optional[Dict[str, int]] = None) -> None:
-        """The quick half: play a prepared script from where the transport is."""
-        self.animation, self.script = animation, script
+    def show(
+        self, script: Script, animation: Animation, counts: Optional[Dict[str, int]] = None, run: Any = None
+    ) -> None:
+        """The quick half: play a prepared script (and its run, when it reacts) from where the
+        transport is."""
+        self.animation, self.script, self.run = animation, script, run
         if counts is not None:
             self.counts = counts
 

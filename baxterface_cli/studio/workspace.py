@@ -33,13 +33,15 @@ from ..speech import phones_heard
 from ..speech.recordings import NO_POCKETSPHINX, RecordingError, Recordings
 from ..web.answers import diagnostics_json, problem
 from ..web.sounds import sound_key, wav_file
+from .chained import Chained
 from .panel import Button, PanelError, load_panel
 from .preview import Preview
-from .reacting import Reacting, listens
+from .reacting import Reacting, listens, with_pressed
 from .robot_switch import RobotSwitch
 from .session import Stale
 
 MAX_SESSION_FILES = 100  # session files one run writes; each session has one, replaced by its exports
+SHOWN_SPANS = 400  # spans of a long run the page lists, around the preview's position
 
 
 def _write_keeping_mode(path: Path, data: bytes) -> None:
@@ -74,14 +76,19 @@ def check_text(
     return diagnostics_json(list(script.warnings))
 
 
-def timeline_json(timeline: Timeline) -> Dict[str, Any]:
-    """The timeline `explain` prints (each statement's span), and the sounds it will want."""
+def timeline_json(timeline: Timeline, t: float = 0.0) -> Dict[str, Any]:
+    """The timeline `explain` prints (each statement's span), and the sounds it will want; of a long
+    run of events, the `SHOWN_SPANS` around `t` (`spans_before`: how many come before them)."""
+    found, before, speech = (
+        timeline.near(t, SHOWN_SPANS)
+        if isinstance(timeline, Chained)
+        else (timeline.spans, 0, timeline.speech)
+    )
     spans = [
-        {"start": round(s.start, 3), "end": round(s.end, 3), "line": s.line, "text": s.text}
-        for s in timeline.spans
+        {"start": round(s.start, 3), "end": round(s.end, 3), "line": s.line, "text": s.text} for s in found
     ]
-    sounds = sorted({sound_key(said.utterance) for said in timeline.speech})
-    return {"duration": round(timeline.duration, 3), "spans": spans, "sounds": sounds}
+    sounds = sorted({sound_key(said.utterance) for said in speech})
+    return {"duration": round(timeline.duration, 3), "spans": spans, "sounds": sounds, "spans_before": before}
 
 
 def vocabulary() -> Dict[str, List[str]]:
@@ -207,7 +214,9 @@ class Workspace(Reacting):
         prepared, note = None, self.preview_note
         with self.firing:  # over the events fired so far: one fired meanwhile is not lost
             try:
-                prepared, note = self.preview.prepare(script), ""
+                # With the handlers pressed in the panel, as the export writes it.
+                played = with_pressed(script, self.pressed)
+                prepared, note = self.preview.prepare(played), ""
             except MissingTool as e:  # `say` with no speech engine: check is content, play is not
                 note = str(e)
                 diagnostics.append(problem(str(e), "warning"))
@@ -218,7 +227,8 @@ class Workspace(Reacting):
             with self.lock:
                 self.text, self.preview_note = text, note
                 if prepared is not None:
-                    self.preview.show(script, *prepared)
+                    self.editor = script
+                    self.preview.show(played, *prepared)
         return {"diagnostics": diagnostics, "timeline": self.timeline()}
 
     def _recite(self, script: Any) -> Tuple[List[Diagnostic], bool]:
@@ -239,7 +249,7 @@ class Workspace(Reacting):
 
     def timeline(self) -> Dict[str, Any]:
         with self.lock:
-            shown = timeline_json(self.preview.animation.timeline)
+            shown = timeline_json(self.preview.animation.timeline, self.preview.position(self.clock()))
             return {**shown, "listens": listens(self.preview.script), "fired": len(self.preview.events)}
 
     def save(self, text: Union[str, bytes], base: Optional[int] = None) -> Dict[str, Any]:

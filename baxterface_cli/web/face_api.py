@@ -202,6 +202,19 @@ class FaceApi:
             return JSONResponse({"diagnostics": diagnostics_json(e.diagnostics)}, 400)
         return await self.raised(event, "POST /api/event")
 
+    @answered
+    async def touch(self, request: Request) -> Response:
+        """A tap on the page's face, at `x` and `y`: fractions of the frame's width and height (the
+        page knows where it drew the frame; what is drawn there is found here, at this moment).
+        Raises `touch` with the place it landed on, or a bare `touch` anywhere else."""
+        body = await body_json(request)
+        where = [body.get(k) for k in ("x", "y")]
+        if not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in where):
+            raise BadRequest('a touch is JSON with x and y, fractions of the frame: {"x": 0.3, "y": 0.4}')
+        x, y = (float(v) for v in where)
+        place = await run_in_threadpool(lambda: self.frames.place(self.shown.face(), x, y))
+        return await self.raised(n.Event("touch", place), "a tap on the page")
+
     async def raised(self, event: n.Event, source: str) -> Response:
         try:
             answer = await self.firing(event, source)

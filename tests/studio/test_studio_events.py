@@ -86,9 +86,9 @@ def test_events_fired_at_a_real_studio_play_and_export_with_the_script(tmp_path)
     assert "'on signal poke' runs" in done.stdout and "'on touch left eye' runs" in done.stdout
 
 
-def test_a_press_that_reacts_is_refused_and_says_where_it_runs(tmp_path):
+def test_a_press_that_would_take_over_the_run_is_refused_and_says_where_it_runs(tmp_path):
     script = tmp_path / "show.face"
     script.write_text("happy\n")
     with running_studio(script) as studio:
-        status, answer = studio.json("POST", "/api/command", "on signal poke { happy }")
+        status, answer = studio.json("POST", "/api/command", "one of {\n  happy\n  |\n  sad\n}")
         assert status == 400 and "editor's script" in answer["diagnostics"][0]["message"], answer

@@ -36,3 +36,29 @@ def test_the_events_bar_fires_the_events_the_script_listens_to(tmp_path):
         # the one error the console has is the bad line's answer, shown in the bar
         logged = [e["message"].split(" - ")[0] for e in errors_in_console(driver)]
         assert [where.rsplit("/", 1)[-1] for where in logged] == ["event"]
+
+
+def test_a_click_on_the_preview_raises_touch_where_it_lands(tmp_path):
+    (tmp_path / "eyes.face").write_text("on touch left eye {\n  wink left\n}\n")
+    with running_studio(tmp_path / "eyes.face", "--no-idle") as studio, chromium() as driver:
+        from selenium.webdriver.common.action_chains import ActionChains
+
+        driver.get(studio.url)
+        wait_for(
+            driver, "window.studio && window.__frames >= 1 && document.getElementById('preview').naturalWidth"
+        )
+        preview = driver.find_element("css selector", "#preview")
+        size = preview.size
+        # The robot's left eye is on the screen's right: at 0.7 across, 0.4 down (from the middle).
+        across, down = round((0.7 - 0.5) * size["width"]), round((0.4 - 0.5) * size["height"])
+        ActionChains(driver).move_to_element_with_offset(preview, across, down).click().perform()
+        said = wait_for(driver, "document.getElementById('event-result').textContent || null")
+        assert said.startswith("touch left eye at ") and "ran 1" in said, said
+        assert studio.json("GET", "/api/state")[1]["timeline"]["fired"] == 1
+        ActionChains(driver).move_to_element_with_offset(
+            preview, 0, round(0.45 * size["height"])
+        ).click().perform()
+        wait_for(
+            driver, "document.getElementById('event-result').textContent.startsWith('touch at ') || null"
+        )
+        assert errors_in_console(driver) == []

@@ -255,8 +255,38 @@
       ? ""
       : (data.diagnostics || [{ message: data.error }]).map((d) => (d.line ? `${d.line}:${d.column}: ` : "") + d.message).join("\n");
     if (ok) showSession(data.session);
+    if (ok && data.reacting) showReacting(data);
     return ok;
   }
+
+  // A press that reacts went to the script's run: the handlers it installed, or the signals it fired.
+  function showReacting(data) {
+    const said = data.fired
+      ? data.fired.map((f) => `${f.event} at ${f.at} s: ran ${f.runs}, dropped ${f.dropped}, queued ${f.queued}`)
+      : [`installed: ${data.installed.join(", ")}`, ...data.replaced];
+    $("event-result").textContent = said.join("; ");
+    $("event-result").classList.add("fired");
+  }
+
+  // A tap on the preview raises `touch` for the script's handlers, as on the screen's page: the page
+  // says where, as fractions of the frame it shows (letterboxed if the box is not the frame's
+  // shape); the server finds what is drawn there.
+  preview.addEventListener("pointerdown", async (event) => {
+    if (!preview.naturalWidth) return;
+    const box = preview.getBoundingClientRect();
+    const scale = Math.min(box.width / preview.naturalWidth, box.height / preview.naturalHeight);
+    const left = box.left + (box.width - preview.naturalWidth * scale) / 2;
+    const top = box.top + (box.height - preview.naturalHeight * scale) / 2;
+    const where = {
+      x: (event.clientX - left) / (preview.naturalWidth * scale),
+      y: (event.clientY - top) / (preview.naturalHeight * scale),
+    };
+    const { ok, data } = await api("POST", "/api/touch", where);
+    $("event-result").textContent = ok
+      ? `${data.event} at ${data.at} s: ran ${data.runs}, dropped ${data.dropped}, queued ${data.queued}`
+      : (data.diagnostics || [{ message: data.error }]).map((d) => d.message).join("\n");
+    $("event-result").classList.toggle("fired", ok);
+  });
 
   // The events bar: a button for each event the script's handlers wait for, and a line for any.
   function showListens(listens, fired) {

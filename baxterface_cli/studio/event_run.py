@@ -1,0 +1,131 @@
+"""A script's run over the events fired at it so far, kept so that the next event continues it.
+
+`render --events` runs a script over an events file in one go (engine/session_run.py). The studio
+gets its events one at a time, at the preview's position, and used to run the script again over
+all of them at each one: the 200th cost 25 times the first. Here the run is kept at its last
+event (a checkpoint: the live session just after it, never advanced further) and a copy of it
+(engine/session_fork.py) takes the next event and runs on to the end; the timelines it played
+before are kept, joined in chapters (chained.py). So an event fired at the end costs the same at
+the 2,000th as at the first, and the run is the one `render --events` makes of the same events,
+to the bit: the same calls, in the same order, on an exact copy.
+
+An event fired earlier than the last (the preview sought back) continues from the nearest kept
+checkpoint before it, one every `EVERY` events, running on over the events after it.
+"""
+
+from __future__ import annotations
+
+import bisect
+from typing import TYPE_CHECKING, Dict, List, NamedTuple, Optional, Tuple
+
+from ..engine.live_session import LiveSession
+from ..engine.session_fork import fork
+from ..engine.session_run import NeverRests, settle
+from ..engine.stitched import Segments
+from ..language import syntax_tree as n
+from ..language.event_trace import Posted
+from .chained import Chained, Chapters, chained
+
+if TYPE_CHECKING:
+    from ..speech.recordings import Recordings
+
+WINDOW = 30.0  # seconds a run that never rests is shown past its last event
+EVERY = 16  # events between the checkpoints kept for an event fired back among the others
+
+
+class Checkpoint(NamedTuple):
+    posted: int  # the run's first `posted` events are in it
+    session: LiveSession  # just after them: only copies of it go on
+    segments: int  # the timelines it had played by then
+
+
+class EventRun:
+    """The run of `script` over `events` (see the module's docstring); each `with_event` makes a
+    new one and leaves this one as it was, so a failure changes nothing."""
+
+    def __init__(
+        self,
+        script: n.Script,
+        seed: Optional[int],
+        recordings: Optional[Recordings],
+        events: Tuple[Posted, ...],
+        played: Segments,
+        checkpoints: Tuple[Checkpoint, ...],
+        chapters: Chapters,
+        shown: bool = True,
+    ) -> None:
+        """`shown`: the run on to its end made now, for the preview (not for a run about to go on)."""
+        self.script, self.seed, self.recordings = script, seed, recordings
+        self.events = events
+        self.played = played  # the timelines played up to the last event, with their starts
+        self.checkpoints = checkpoints
+        self.chapters = chapters
+        if shown:
+            self.timeline, self.counts = self._shown()
+
+    @classmethod
+    def start(
+        cls,
+        script: n.Script,
+        seed: Optional[int],
+        recordings: Optional[Recordings] = None,
+        events: Tuple[Posted, ...] = (),
+    ) -> EventRun:
+        """`script` run over `events` from the start (ScriptError or MissingTool if it cannot play)."""
+        # As run_over makes it: the same session, given the same calls.
+        session = LiveSession(script, seed=seed, idle=False, recordings=recordings, record=True, log_lines=0)
+        played, session.segments = list(session.segments or ()), []
+        first = (Checkpoint(0, session, len(played)),)
+        run = cls(script, seed, recordings, (), played, first, Chapters(), shown=not events)
+        return run._continued(run.checkpoints[0], list(events)) if events else run
+
+    def with_event(self, posted: Posted) -> EventRun:
+        """This run with `posted` among its events, after any at the same time."""
+        at = [e.at for e in self.events]
+        i = bisect.bisect_right(at, posted.at)
+        events = [*self.events[:i], posted, *self.events[i:]]
+        since = next(c for c in reversed(self.checkpoints) if c.posted <= i)
+        return self._continued(since, events)
+
+    def _continued(self, since: Checkpoint, events: List[Posted]) -> EventRun:
+        """The run from the checkpoint `since` on over the rest of `events` (the first
+        `since.posted` of them are in it already)."""
+        session = fork(since.session)
+        played = list(self.played[: since.segments])
+        checkpoints = [c for c in self.checkpoints if c.posted < since.posted] + [since]
+        for k in range(since.posted, len(events)):
+            posted = events[k]
+            session.post(posted.event, posted.at, f"events:{k + 1}")
+            played += session.segments  # type: ignore[operator]
+            session.segments = []
+            if (k + 1) % EVERY == 0 or k + 1 == len(events):
+                checkpoints.append(Checkpoint(k + 1, session, len(played)))
+                if k + 1 < len(events):
+                    session = fork(session)
+        # One every EVERY events, and the last: the run goes on from there.
+        checkpoints = [c for c in checkpoints[:-1] if c.posted % EVERY == 0] + checkpoints[-1:]
+        chapters = self.chapters.upto(since.segments).grown(played)
+        return EventRun(
+            self.script, self.seed, self.recordings, tuple(events), played, tuple(checkpoints), chapters
+        )
+
+    def _shown(self) -> Tuple[Chained, Dict[str, int]]:
+        """The whole run, on from the last event to its end, as `run_over` ends it; and what its
+        handlers did in all."""
+        last = self.checkpoints[-1]
+        end_at = self.events[-1].at if self.events else 0.0
+        tail = fork(last.session)
+        duration: Optional[float] = None
+        try:
+            end = settle(tail, self.script, end_at, bool(self.events), None)
+        except NeverRests:
+            tail, duration = fork(last.session), end_at + WINDOW
+            end = settle(tail, self.script, end_at, bool(self.events), duration)
+        # As run_over ends it: where the last timeline ends, when no duration was given.
+        segments = [*self.played, *(tail.segments or ())] or [(0.0, tail.face.timeline)]
+        if duration is None:
+            start, timeline = segments[-1]
+            end = max(end, start + timeline.duration)
+        counts = tail.counts().values()
+        totals = {key: sum(c[key] for c in counts) for key in ("runs", "dropped", "queued")}
+        return chained(self.chapters, segments, end), totals
