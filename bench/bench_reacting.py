@@ -3,6 +3,7 @@
     PYTHON bench/bench_reacting.py latency 1|2 [COUNT]   event to the first changed frame
     PYTHON bench/bench_reacting.py storm 1|2 [RATE SECONDS]   events at RATE a second at the node
     PYTHON bench/bench_reacting.py soak [HOURS]   random events against the session alone
+    PYTHON bench/bench_reacting.py word [COUNT]   ROS 1: a word's end to the first changed frame
 
 `latency` and `storm` start the face node (`baxterface node --ros N`, idle off) and talk to it
 through a Link of their own, as any ROS program would: run them with the Python that has that
@@ -17,7 +18,12 @@ RATE a second (1,000) for SECONDS (10) and reports the longest gap between frame
 each handler's runs and drops (read from ~state), and the node's resident memory before, after,
 and after a second storm. `soak` runs a LiveSession on a fast clock (no threads, no waiting)
 for HOURS (1) of random events, and reports memory (tracemalloc) and threads each simulated ten
-minutes and whether the log lost a line.
+minutes and whether the log lost a line. `word` starts the node COUNT (5) times with
+`_listen:=that.wav`, espeak-ng (en-us) saying "look at that robot", and `on word "robot" { skin 3
+}` sent to it once both skins were shown: the word's end is where the spotter puts it in the
+recording (spot_file, offline, in the same 50 ms blocks) after the wall time the node logs for
+the recording's start, and the frame's time is when it reached this process (wall time too);
+beside it, in the same run, plain commands on display_chatter (the baseline).
 Prints JSON.
 """
 
@@ -26,10 +32,12 @@ from __future__ import annotations
 import json
 import os
 import random
+import re
 import signal
 import statistics
 import subprocess
 import sys
+import tempfile
 import threading
 import time
 import tracemalloc
@@ -251,10 +259,96 @@ def soak(hours):
     }
 
 
+STARTS_PLAYING = re.compile(r"listening: listening to .* from (\d+\.\d+) \(seconds since the epoch\)")
+
+
+class WallFrames(Frames):
+    """Frames received, with their wall times (the node's log has wall times)."""
+
+    def _got(self, msg) -> None:
+        self.times.append(time.time())
+        self.event.set()
+
+
+def word(count):
+    from baxterface_cli.ros.connect import open_link
+    from baxterface_cli.speech.word_spotter import spot_file
+
+    wav = Path(tempfile.mkdtemp(prefix="bench-word-")) / "that.wav"
+    subprocess.run(["espeak-ng", "-v", "en-us", "-w", str(wav), "look at that robot"], check=True)
+    heard = spot_file(str(wav), ["robot"])
+    if not heard:
+        raise SystemExit("bench_reacting: the spotter does not hear 'robot' in the recording")
+    word_end = heard[0].at
+    core = None
+    if "ROS_MASTER_URI" not in os.environ:
+        from ros_master import start_roscore
+
+        core, env = start_roscore()
+        os.environ.update(env)
+    link = open_link(1, "bench_reacting", anonymous=True)
+    frames, state = WallFrames(link), State(link)
+    chatter = link.publisher("display_chatter", "std_msgs/String", queue=100)
+    words, plain = [], []
+    try:
+        for _ in range(count):
+            heard_after, baseline = _word_round(wav, word_end, frames, state, chatter)
+            words.append(heard_after)
+            plain += baseline
+    finally:
+        link.close()
+        if core is not None:
+            core.send_signal(signal.SIGINT)
+            core.wait(timeout=30)
+    return {
+        "load": os.getloadavg(),
+        "word_end_in_recording_s": round(word_end, 2),
+        "word_to_frame_ms": [round(x, 1) for x in words],
+        "word_to_frame_p50_ms": round(statistics.median(words), 1),
+        "plain_command_to_frame_p50_ms": round(statistics.median(plain), 1),
+    }
+
+
+def _word_round(wav, word_end, frames, state, chatter):
+    """One node hearing the recording: ms from the word's end to its frame, and plain commands'."""
+    argv = [sys.executable, "-m", "baxterface_cli", "node", *node_args(1), f"_listen:={wav}"]
+    proc = subprocess.Popen(argv, cwd=str(ROOT), stdout=subprocess.PIPE, text=True)
+    lines = []
+    threading.Thread(target=lambda: lines.extend(proc.stdout), daemon=True).start()
+    try:
+        state.last = {}
+        until(lambda: chatter.listeners() > 0 and frames.sub.publishers() > 0 and state.last, 60, "up")
+        # Warmed up as the other latencies are: each skin drawn once, the renderer's preparing done.
+        for command in ("skin_3", "skin_1"):
+            chatter.publish(data=command)
+            time.sleep(1.0)
+        chatter.publish(data='on word "robot" { skin 3 }')
+
+        def playing():
+            return next((float(m.group(1)) for m in map(STARTS_PLAYING.search, lines) if m), None)
+
+        until(lambda: playing() is not None, 30, "the recording playing")
+        ended = playing() + word_end
+        until(lambda: any(t > ended - 0.3 for t in frames.times), 30, "the word's frame")
+        heard_after = (next(t for t in frames.times if t > ended - 0.3) - ended) * 1000
+
+        def command(i):  # timed from its wall time, as the frames are
+            sent = time.time()
+            chatter.publish(data=["skin_1", "skin_3"][i % 2])
+            return sent
+
+        return heard_after, timed(frames, command, 6)
+    finally:
+        proc.send_signal(signal.SIGTERM)
+        proc.wait(timeout=30)
+
+
 def main() -> None:
     what = sys.argv[1] if len(sys.argv) > 1 else "soak"
     if what == "latency":
         out = latency(int(sys.argv[2]), int(sys.argv[3]) if len(sys.argv) > 3 else 100)
+    elif what == "word":
+        out = word(int(sys.argv[2]) if len(sys.argv) > 2 else 5)
     elif what == "storm":
         rate = int(sys.argv[3]) if len(sys.argv) > 3 else 1000
         out = storm(int(sys.argv[2]), rate, float(sys.argv[4]) if len(sys.argv) > 4 else 10.0)

@@ -22,8 +22,10 @@ from .app import (
     animation_for,
     fail,
     fitted_theme,
+    recordings_of,
     script_from,
 )
+from .events_option import DURATION_OPT
 
 ROS_OPT = typer.Option(
     None,
@@ -120,6 +122,8 @@ def node(
       camera_hfov    its field of view in DEGREES: its camera_info's, else 76
       face_policy    nearest|central|longest: nearest
       recordings     the FOLDER 'say file' may read: none (no recording is read)
+      listen         words for 'on word': default (the microphone) or a WAV file: none
+      barge_in       true|false, hear words while the face speaks: false
       transport      ROS 2: shm|default, as --ros-transport: shm
 
     Commands (old or new) arrive on display_chatter and take over at once;
@@ -276,13 +280,26 @@ def stream(
         help="Where speech goes: soundplay (sound_play on /robotsound, on this machine; the default "
         "on ROS 1), local (this machine's sound device; the default on ROS 2) or none.",
     ),
+    duration: Optional[float] = DURATION_OPT,
+    listen: bool = typer.Option(
+        False,
+        "--listen",
+        help="Hear the script's words ('on word \"hello\"') from this machine's microphone.",
+    ),
+    barge_in: bool = typer.Option(
+        False, "--barge-in", help="With --listen: hear words while the face speaks."
+    ),
     ros: Optional[int] = ROS_OPT,
     ros_transport: Optional[str] = TRANSPORT_OPT,
 ) -> None:
     """Stream a script to the robot's screen in real time, no face node needed.
 
     Frames are drawn here and published as bgr8, with the script's head, nod
-    and enable commands and its speech at their times.
+    and enable commands and its speech at their times. A script that reacts
+    (handlers, waits, signals, forever, one of) runs as the face node runs it,
+    with the robot's events (navigators, cuffs, sonar, camera, 'signal NAME'
+    on display_chatter, words with --listen), until it has nothing left to do
+    and no handlers, --duration T seconds, or Ctrl-C.
     """
     from ..ros.effect_messages import DISPLAY_TOPICS
     from ..ros.speakers import AUDIO_CHOICES, SPEAKERS
@@ -296,6 +313,7 @@ def stream(
         raise fail(f"baxterface stream: --audio must be {AUDIO_CHOICES}, not {audio!r}", 2)
     script = script_from(script_path, inline, "stream")
     renderer_layers = fitted_theme(theme, size, "stream")
+    live = _stream_live_checks(script, duration, listen)
     check_transport("stream", version, ros_transport)
     ros_ready("stream", version)
     from ..drawing.renderer import Renderer
@@ -303,6 +321,22 @@ def stream(
     from ..ros.send import stream as stream_to
     from ..ros.speakers import UnknownAudio
 
+    if live:
+        options = dict(seed=seed, idle=idle, recordings=recordings_of(script), crossfade=crossfade)
+        _stream_live(
+            script,
+            Renderer(renderer_layers),
+            robot,
+            fps,
+            ros_args,
+            audio,
+            version,
+            duration,
+            listen,
+            barge_in,
+            options,
+        )
+        return
     animation = animation_for(script, seed, idle, crossfade)
     try:
         played = stream_to(animation, Renderer(renderer_layers), robot, fps, ros_args, audio, version)
@@ -311,3 +345,40 @@ def stream(
     except RosUnavailable as e:
         raise fail(f"baxterface stream: {e}") from None
     typer.echo(f"streamed {animation.duration:.2f} s of script in {played:.2f} s", err=True)
+
+
+def _stream_live_checks(script, duration: Optional[float], listen: bool) -> bool:
+    """Does `stream` run `script` on a live session (it reacts, or hears)? Exit 2 for options that
+    fit no such script."""
+    from ..engine.session_run import reactive
+    from .play_live import words_of
+
+    if listen and not words_of(script):
+        raise fail(
+            "baxterface stream: --listen: the script listens for no words ('on word \"hello\" { ... }')", 2
+        )
+    live = reactive(script)
+    if duration is not None and not live:
+        raise fail("baxterface stream: --duration is for a script that reacts (with 'on', 'forever' ...)", 2)
+    return live
+
+
+def _stream_live(script, renderer, robot, fps, ros_args, audio, version, duration, listen, barge_in, options):
+    from ..extras import MissingTool
+    from ..ros.connect import RosUnavailable
+    from ..ros.live_stream import Deaf, stream_live
+    from ..ros.speakers import UnknownAudio
+
+    try:
+        ran = stream_live(
+            script, renderer, robot, fps, ros_args, audio, version, duration, listen, barge_in, options
+        )
+    except UnknownAudio as e:
+        raise fail(f"baxterface stream: {e}", 2) from None
+    except Deaf as e:
+        raise fail(f"baxterface stream: --listen: {e}") from None
+    except (RosUnavailable, MissingTool) as e:
+        raise fail(f"baxterface stream: {e}") from None
+    except ScriptError as e:
+        raise fail(e.render()) from None
+    typer.echo(f"streamed {ran:.2f} s live", err=True)

@@ -43,7 +43,8 @@ MAX_QUEUE = 32  # queued scripts read and waiting their turn
 MAX_EVENTS = 10_000  # events waiting for the worker
 BATCH = 1000  # inputs taken in one go before the session's time is advanced
 
-_SIGNAL = re.compile(r"\s*signal\s+([A-Za-z_][A-Za-z0-9_]*)\s*;?\s*", re.IGNORECASE)
+# `signal NAME` sent alone: raised without the parser, never a take-over (stream takes only these).
+SIGNAL_ALONE = re.compile(r"\s*signal\s+([A-Za-z_][A-Za-z0-9_]*)\s*;?\s*", re.IGNORECASE)
 Log = Callable[[str, str], None]  # (level, text)
 Said = Union[str, n.Script]  # a command's text, or a script its sender has read already
 
@@ -99,7 +100,7 @@ class SessionIntake(ClosedOnExit):
 
     def submit(self, text: str, queued: bool = False) -> Optional[str]:
         """Hand a command over; returns why it was refused, or None."""
-        signal = _SIGNAL.fullmatch(text)
+        signal = SIGNAL_ALONE.fullmatch(text)
         if signal is not None:
             return self.post(n.Event("signal", signal.group(1).lower()), self.filename)
         return self._hand(text, queued, None)

@@ -36,6 +36,9 @@ _SECOND_WORDS = {"face": ("seen", "lost"), "person": ("near", "gone")}
 NAVIGATORS = ("left", "right", "torso_left", "torso_right")
 BUTTONS = ("ok", "up", "down")
 WHEEL = "wheel"
+# The arms' cuffs: the button with a dash, the round one, and the cuff squeezed.
+CUFFS = ("left_cuff", "right_cuff")
+CUFF_BUTTONS = ("dash", "circle", "squeeze")
 # Where on the face a touch lands (the robot's left, as `wink left`); none: anywhere.
 PLACES = ("left eye", "right eye", "mouth", "brows")
 
@@ -110,15 +113,28 @@ def _button(
     if names[:1] == [WHEEL]:
         turned = names[1:2] if names[1:2] in (["up"], ["down"]) else []
         return n.Event("button", " ".join([WHEEL] + turned), pos=pos), rest[1 + len(turned) :]
-    if names[:1] and names[0] in NAVIGATORS and names[1:2] and names[1] in BUTTONS:
-        return n.Event("button", f"{names[0]} {names[1]}", pos=pos), rest[2:]
-    if names[:1] and names[0] in BUTTONS:
+    if names[:1] and names[0] in BUTTONS + CUFF_BUTTONS:
         return n.Event("button", names[0], pos=pos), rest[1:]
-    usage = f"a button: {one_of(BUTTONS)}, a navigator's ('left ok', 'torso_right up'), or 'wheel'"
+    if names[:1] and names[0] in NAVIGATORS + CUFFS:
+        device = names[0]
+        own = CUFF_BUTTONS if device in CUFFS else BUTTONS
+        if names[1:2] and names[1] in own:
+            return n.Event("button", f"{device} {names[1]}", pos=pos), rest[2:]
+        which = f"its buttons are {one_of(own)}"
+        if names[1:2]:
+            hint = hints(names[1], own)
+            error(rest[1], f"unknown button '{rest[1]}' on '{device}'{hint or '; ' + which}")
+        else:
+            error(rest[0], f"'button {device}' needs one of its buttons: {one_of(own)}")
+        return None, []
+    usage = (
+        f"a button: {one_of(BUTTONS + CUFF_BUTTONS)}, a navigator's ('left ok', 'torso_right up'), "
+        "a cuff's ('left_cuff dash') or 'wheel'"
+    )
     if not names:
         error(rest[0] if rest else first, f"'button' needs {usage}")
     else:
-        hint = hints(names[0], BUTTONS + NAVIGATORS + (WHEEL,))
+        hint = hints(names[0], BUTTONS + CUFF_BUTTONS + NAVIGATORS + CUFFS + (WHEEL,))
         error(rest[0], f"unknown button '{rest[0]}'{hint or '; ' + usage}")
     return None, []
 
@@ -173,8 +189,9 @@ def option_words(event: n.Event) -> Tuple[str, ...]:
 
 
 def matches(wanted: n.Event, posted: n.Event) -> bool:
-    """Does a handler's (or a wait's) event take `posted`? A button without a navigator takes any
-    navigator's, `button wheel` either turn, `touch` anywhere; the rest are equal."""
+    """Does a handler's (or a wait's) event take `posted`? A button without a navigator or cuff
+    takes any navigator's (`button dash` any cuff's), `button wheel` either turn, `touch`
+    anywhere; the rest are equal."""
     if wanted.kind != posted.kind:
         return False
     if wanted.kind in TIMERS:
@@ -184,6 +201,6 @@ def matches(wanted: n.Event, posted: n.Event) -> bool:
     if wanted.kind == "button":
         got = posted.arg.split()
         return (wanted.arg == WHEEL and got[0] == WHEEL) or (
-            wanted.arg in BUTTONS and got[-1] == wanted.arg and got[0] != WHEEL
+            wanted.arg in BUTTONS + CUFF_BUTTONS and got[-1] == wanted.arg and got[0] != WHEEL
         )
     return False

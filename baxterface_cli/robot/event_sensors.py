@@ -1,7 +1,8 @@
 """The robot's senses as events for a live session: the camera's face, the sonar's person, the
-navigators' buttons and wheel. Each turns raw readings into the events a script reacts to, with
-the hysteresis or edge detection that keeps a flickering reading from raising a storm. The clock
-is the caller's (`at`, seconds); nothing here knows ROS (ros/face_node.py feeds them).
+navigators' buttons and wheel, the cuffs' buttons. Each turns raw readings into the events a
+script reacts to, with the hysteresis or edge detection that keeps a flickering reading from
+raising a storm. The clock is the caller's (`at`, seconds); nothing here knows ROS
+(ros/robot_senses.py feeds them).
 """
 
 from __future__ import annotations
@@ -9,12 +10,14 @@ from __future__ import annotations
 from typing import Dict, Iterable, List, Optional, Sequence
 
 from ..language import syntax_tree as n
-from ..language.events import BUTTONS, NAVIGATORS
+from ..language.events import BUTTONS, CUFF_BUTTONS, CUFFS, NAVIGATORS
 from .following import FRONT_SENSORS
 
 SEEN_AFTER = 0.2  # seconds a face must be found before `face seen`
 LOST_AFTER = 0.8  # seconds unseen before `face lost`
 NEAR = 1.0  # metres: a person this near the head sonar is `person near`
+# A cuff's digital inputs (/robot/digital_io/SIDE_INPUT/state) by the names a script uses.
+CUFF_INPUTS = dict(zip(("upper_button", "lower_button", "lower_cuff"), CUFF_BUTTONS))
 GONE_AFTER = 1.0  # seconds with nobody near before `person gone`
 FARTHER_TO_GO = 0.2  # metres past `near` a person must be to count as gone: no flicker at the edge
 
@@ -107,3 +110,19 @@ class NavigatorPresses:
                 turn = "wheel up" if clicks > 0 else "wheel down"
                 out += [n.Event("button", turn) for _ in range(min(abs(clicks), 8))]
         return out
+
+
+class CuffPresses:
+    """A cuff's digital inputs in (`left`, `upper_button`, pressed or not); `button left_cuff dash`
+    (`circle`, `squeeze`) out on each press, not while held."""
+
+    def __init__(self) -> None:
+        self.down: Dict[str, bool] = {}
+
+    def reading(self, side: str, io_name: str, pressed: bool) -> List[n.Event]:
+        cuff, button = f"{side}_cuff", CUFF_INPUTS.get(io_name)
+        if cuff not in CUFFS or button is None:
+            return []
+        key = f"{cuff} {button}"
+        was, self.down[key] = self.down.get(key, False), bool(pressed)
+        return [n.Event("button", key)] if pressed and not was else []

@@ -1,8 +1,9 @@
-"""Baxter's navigator buttons as face commands: a mapping file and edge detection.
+"""Baxter's navigator and cuff buttons as face commands: a mapping file and edge detection.
 
 One press, one command: a button sends when it goes down, not while it is
-held. A button mapped to a list sends its commands in turn (a toggle). The
-wheel (0..255, wrapping) steps through its commands one a click while the
+held. Keys are NAVIGATOR.BUTTON (`left.up`) or CUFF.BUTTON (`left_cuff.dash`,
+`right_cuff.squeeze`), as scripts name them. A button mapped to a list sends its commands in
+turn (a toggle). The wheel (0..255, wrapping) steps through its commands one a click while the
 face is awake. The mapping is `buttons.json` beside this file unless a user
 gives their own.
 """
@@ -14,7 +15,9 @@ from pathlib import Path
 from typing import Any, Dict, List, Optional, Sequence, Type, Union
 
 from ..language.diagnostics import ScriptError
+from ..language.events import CUFF_BUTTONS, CUFFS
 from ..language.parser import parse
+from .event_sensors import CUFF_INPUTS
 
 NAVIGATORS = ("left", "right", "torso_left", "torso_right")
 BUTTONS = ("ok", "up", "down")  # index 0, 1, 2 in NavigatorState.buttons
@@ -42,8 +45,13 @@ class ButtonMap:
         buttons: Dict[str, List[str]] = {}
         for key, value in (data.get("buttons") or {}).items():
             navigator, _, button = key.partition(".")
-            if navigator not in NAVIGATORS or button not in BUTTONS:
-                raise MappingError(f"{path}: unknown button {key!r}; use NAVIGATOR.BUTTON, e.g. left.up")
+            if not (navigator in NAVIGATORS and button in BUTTONS) and not (
+                navigator in CUFFS and button in CUFF_BUTTONS
+            ):
+                raise MappingError(
+                    f"{path}: unknown button {key!r}; use NAVIGATOR.BUTTON or CUFF.BUTTON, "
+                    "e.g. left.up or left_cuff.dash"
+                )
             buttons[key] = _commands(value, path, key)
         wheel = data.get("wheel") or {}
         navigator = wheel.get("navigator")
@@ -75,7 +83,7 @@ def _commands(value: object, path: Path, key: str) -> List[str]:
 
 
 class Buttons:
-    """Navigator states in, the commands they mean out."""
+    """Navigator and cuff states in, the commands they mean out."""
 
     def __init__(self, mapping: ButtonMap) -> None:
         self.mapping = mapping
@@ -88,18 +96,28 @@ class Buttons:
     def update(self, navigator: str, buttons: Sequence[bool], wheel: Optional[int] = None) -> List[str]:
         out: List[str] = []
         for index, name in enumerate(BUTTONS[: len(buttons)]):
-            key = f"{navigator}.{name}"
-            pressed = bool(buttons[index])
-            if pressed and not self.down.get(key, False) and key in self.mapping.buttons:
-                commands = self.mapping.buttons[key]
-                turn = self.turns.get(key, 0)
-                out.append(commands[turn % len(commands)])
-                self.turns[key] = turn + 1
-            self.down[key] = pressed
+            out += self._pressed(f"{navigator}.{name}", bool(buttons[index]))
         if wheel is not None and navigator == self.mapping.wheel_navigator and self.mapping.wheel:
-            out += self._wheel(int(wheel) % 256)
-        for command in out:
-            self.heard(command)
+            turned = self._wheel(int(wheel) % 256)
+            for command in turned:
+                self.heard(command)
+            out += turned
+        return out
+
+    def cuff(self, side: str, io_name: str, pressed: bool) -> List[str]:
+        """A cuff's input (`left`, `upper_button`) read as pressed or not: the command it means."""
+        button = CUFF_INPUTS.get(io_name)
+        return [] if button is None else self._pressed(f"{side}_cuff.{button}", pressed)
+
+    def _pressed(self, key: str, pressed: bool) -> List[str]:
+        out = []
+        if pressed and not self.down.get(key, False) and key in self.mapping.buttons:
+            commands = self.mapping.buttons[key]
+            turn = self.turns.get(key, 0)
+            out.append(commands[turn % len(commands)])
+            self.turns[key] = turn + 1
+            self.heard(out[0])
+        self.down[key] = bool(pressed)
         return out
 
     def _wheel(self, value: int) -> List[str]:

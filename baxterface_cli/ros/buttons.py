@@ -1,12 +1,16 @@
-"""`baxterface buttons`: the navigator controller, publishing commands to display_chatter."""
+"""`baxterface buttons`: the navigator and cuff controller, publishing commands to display_chatter."""
 
 from __future__ import annotations
 
 import json
 from typing import Any, List
 
+from ..robot.event_sensors import CUFF_INPUTS
 from ..robot.navigator_buttons import NAVIGATORS, ButtonMap, Buttons
 from .messages import message_class
+
+CUFF_TOPIC = "/robot/digital_io/{}_{}/state"  # baxter_core_msgs/DigitalIOState
+CUFF_SIDES = ("left", "right")
 
 
 def run_buttons(mapping: ButtonMap, argv: List[str]) -> int:
@@ -22,6 +26,11 @@ def run_buttons(mapping: ButtonMap, argv: List[str]) -> int:
             rospy.loginfo("%s navigator: %s", navigator, command)
             chatter.publish(String(command))
 
+    def cuff(msg: Any, where: tuple) -> None:
+        for command in buttons.cuff(*where, msg.state == 1):
+            rospy.loginfo("%s cuff: %s", where[0], command)
+            chatter.publish(String(command))
+
     def face_state(msg: Any) -> None:
         try:
             emotion = json.loads(msg.data).get("emotion")
@@ -34,6 +43,12 @@ def run_buttons(mapping: ButtonMap, argv: List[str]) -> int:
     for navigator in NAVIGATORS:
         topic = f"/robot/navigators/{navigator}_navigator/state"
         rospy.Subscriber(topic, navigator_state, pressed, navigator, queue_size=10)
+    if any(key.partition(".")[0].endswith("_cuff") for key in buttons.mapping.buttons):
+        digital_io = message_class("DigitalIOState")
+        for side in CUFF_SIDES:
+            for io_name in CUFF_INPUTS:
+                topic = CUFF_TOPIC.format(side, io_name)
+                rospy.Subscriber(topic, digital_io, cuff, (side, io_name), queue_size=10)
     rospy.Subscriber("/baxter_face/state", String, face_state, queue_size=1)
     rospy.spin()
     return 0

@@ -101,6 +101,18 @@ bool[] lights
 """,
         "680d121a1f16a32647298b292492fffd",
     ),
+    # The cuffs' and other digital inputs: /robot/digital_io/NAME/state.
+    "baxter_core_msgs/DigitalIOState": Carried(
+        """int8 state
+bool isInputOnly
+
+int8 OFF = 0
+int8 ON  = 1
+int8 PRESSED = 1
+int8 UNPRESSED = 0
+""",
+        "29d0be3859dae81a66b28f167ecec98c",
+    ),
     # sound_play's as ROS Noetic has it: ros-drivers/audio_common, tag 0.3.18,
     # sound_play/msg/SoundRequest.msg (with `volume` and `arg2`; a `reverb` field proposed
     # since is in no release). Its md5sum as rosserial generated it, in jsk-ros-pkg/jsk_3rdparty,

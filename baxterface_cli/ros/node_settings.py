@@ -46,6 +46,10 @@ class NodeSettings:
     face_seen_after: float = 0.2  # seconds a face is found before `face seen`
     face_lost_after: float = 0.8  # seconds unseen before `face lost`
     person_near: float = 1.0  # metres from the head sonar that make `person near`
+    # Words (ros/node_ears.py): "" hears none, "default" the default input device, a .wav file's path
+    # that recording played as a microphone would give it; `barge_in` hears words while it speaks.
+    listen: str = ""
+    barge_in: bool = False
 
     @classmethod
     def read(cls, get: Callable[[str, Any], Any], defaults: Optional[NodeSettings] = None) -> NodeSettings:
@@ -67,6 +71,8 @@ class NodeSettings:
             face_seen_after=_number(get, "face_seen_after", d.face_seen_after, 0.0, 10.0, " s"),
             face_lost_after=_number(get, "face_lost_after", d.face_lost_after, 0.0, 60.0, " s"),
             person_near=_number(get, "person_near", d.person_near, 0.1, 5.0, " m"),
+            listen=_listen(get, "listen", d.listen),
+            barge_in=_flag(get, "barge_in", d.barge_in),
         )
 
 
@@ -142,6 +148,16 @@ def _folder(get, name: str) -> Optional[str]:
     path = os.path.abspath(os.path.expanduser(value))
     if not os.path.isdir(path):
         raise SettingError(name, f"must be a folder, not {value[:80]!r}")
+    return path
+
+
+def _listen(get, name: str, default: str) -> str:
+    value = _text(get, name, default).strip()
+    if value in ("", "default"):
+        return value
+    path = os.path.abspath(os.path.expanduser(value))
+    if not value.lower().endswith(".wav") or not os.path.isfile(path):
+        raise SettingError(name, f"must be default or a WAV file, not {value[:80]!r}")
     return path
 
 

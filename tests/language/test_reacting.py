@@ -39,6 +39,9 @@ def test_a_handler_with_its_event_policy_and_cooldown():
         ("button torso_left up", n.Event("button", "torso_left up")),
         ("button wheel", n.Event("button", "wheel")),
         ("button wheel down", n.Event("button", "wheel down")),
+        ("button left_cuff dash", n.Event("button", "left_cuff dash")),
+        ("button right_cuff squeeze", n.Event("button", "right_cuff squeeze")),
+        ("button circle", n.Event("button", "circle")),
         ('word "Hello   There"', n.Event("word", "hello there")),
         ("touch", n.Event("touch")),
         ("touch left eye", n.Event("touch", "left eye")),
@@ -70,6 +73,28 @@ def test_wait_until_signal_forever_and_one_of():
         ("on face sen { blink }", "t.face:1:9: error: unknown event 'face sen'; did you mean 'face seen'?"),
         ("on fase seen { blink }", "t.face:1:4: error: unknown event 'fase'; did you mean 'face'?"),
         ("on button okk { blink }", "t.face:1:11: error: unknown button 'okk'; did you mean 'ok'?"),
+        ("on button dahs { blink }", "t.face:1:11: error: unknown button 'dahs'; did you mean 'dash'?"),
+        (
+            "on button left_cuf dash { blink }",
+            "t.face:1:11: error: unknown button 'left_cuf'; did you mean 'left_cuff'?",
+        ),
+        (
+            "on button right_cuff ok { blink }",
+            "t.face:1:22: error: unknown button 'ok' on 'right_cuff'; its buttons are 'dash', 'circle' or "
+            "'squeeze'",
+        ),
+        (
+            "on button left_cuff sqeeze { blink }",
+            "t.face:1:21: error: unknown button 'sqeeze' on 'left_cuff'; did you mean 'squeeze'?",
+        ),
+        (
+            "wait until button left_cuff",
+            "t.face:1:19: error: 'button left_cuff' needs one of its buttons: 'dash', 'circle' or 'squeeze'",
+        ),
+        (
+            "on button torso_left dash { blink }",
+            "t.face:1:22: error: unknown button 'dash' on 'torso_left'; its buttons are 'ok', 'up' or 'down'",
+        ),
         (
             "on face seen qeue { blink }",
             "t.face:1:14: error: unknown option 'qeue' for 'on face seen'; did you mean 'queue'?",
@@ -142,6 +167,9 @@ def test_a_button_without_a_navigator_takes_any_navigators_and_wheel_either_turn
     assert not matches(n.Event("button", "left ok"), n.Event("button", "right ok"))
     assert matches(n.Event("button", "wheel"), n.Event("button", "wheel up"))
     assert not matches(n.Event("button", "up"), n.Event("button", "wheel up"))
+    assert matches(n.Event("button", "dash"), n.Event("button", "right_cuff dash"))
+    assert not matches(n.Event("button", "left_cuff dash"), n.Event("button", "right_cuff dash"))
+    assert not matches(n.Event("button", "squeeze"), n.Event("button", "left_cuff dash"))
     assert matches(n.Event("touch"), n.Event("touch", "mouth"))
     assert not matches(n.Event("touch", "mouth"), n.Event("touch", "left eye"))
 
@@ -177,4 +205,17 @@ def test_an_events_file_says_every_problem_where_it_is():
         "v.events:5:8: error: unterminated string: it needs a closing '\"' on the same line",
         "v.events:6:1: error: unknown unit 'x' for a time; use 's' or 'ms'",
         "v.events:8:1: error: times go forward: 2 comes after 7 s",
+    ]
+
+
+def test_an_events_file_takes_the_cuffs_and_names_a_wrong_one_where_it_is():
+    trace = parse_trace("1 button left_cuff squeeze\n2 button dash\n", "c.events")
+    assert [p.event for p in trace.events] == [
+        n.Event("button", "left_cuff squeeze"),
+        n.Event("button", "dash"),
+    ]
+    with pytest.raises(ScriptError) as caught:
+        parse_trace("1 button left_cuff circel\n", "c.events")
+    assert [d.head("c.events") for d in caught.value.diagnostics] == [
+        "c.events:1:20: error: unknown button 'circel' on 'left_cuff'; did you mean 'circle'?"
     ]

@@ -57,3 +57,20 @@ def test_a_users_mapping_and_its_errors(tmp_path):
     mine.write_text("{", encoding="utf-8")
     with pytest.raises(MappingError, match="not valid JSON"):
         ButtonMap.load(mine)
+
+
+def test_a_cuff_button_is_a_key_of_its_own_once_a_press(tmp_path):
+    mine = tmp_path / "cuffs.json"
+    mapping = {"buttons": {"left_cuff.dash": ["happy", "sad"], "right_cuff.squeeze": "wake_up"}}
+    mine.write_text(json.dumps(mapping), encoding="utf-8")
+    b = Buttons(ButtonMap.load(mine))
+    assert b.cuff("left", "upper_button", True) == ["happy"]  # upper_button: the dash
+    assert b.cuff("left", "upper_button", True) == []  # held
+    assert b.cuff("left", "upper_button", False) == []
+    assert b.cuff("left", "upper_button", True) == ["sad"]  # a toggle, as a navigator's
+    assert b.cuff("right", "lower_cuff", True) == ["wake_up"] and b.awake
+    assert b.cuff("left", "lower_button", True) == []  # the circle: not mapped
+    for key in ("left_cuff.ok", "torso_left.dash", "left_cuf.dash"):
+        mine.write_text(json.dumps({"buttons": {key: "happy"}}), encoding="utf-8")
+        with pytest.raises(MappingError, match=f"unknown button '{key}'; use NAVIGATOR.BUTTON or CUFF"):
+            ButtonMap.load(mine)

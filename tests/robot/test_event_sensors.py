@@ -1,9 +1,12 @@
 """The robot's senses as events (robot/event_sensors.py), on a clock the test gives: a face seen
-after 0.2 s found and lost after 0.8 s unseen, a person near the sonar, a navigator's presses."""
+after 0.2 s found and lost after 0.8 s unseen, a person near the sonar, a navigator's presses, a
+cuff's."""
 
 from __future__ import annotations
 
-from baxterface_cli.robot.event_sensors import FaceSightings, NavigatorPresses, SonarPresence
+from baxterface_cli.language import syntax_tree as n
+from baxterface_cli.language.events import matches
+from baxterface_cli.robot.event_sensors import CuffPresses, FaceSightings, NavigatorPresses, SonarPresence
 
 
 def kinds(events):
@@ -61,3 +64,25 @@ def test_a_navigator_press_is_one_event_and_the_wheel_clicks_each_way():
     presses.reading("right", [], 254)
     assert kinds(presses.reading("right", [], 1)) == ["button wheel up"] * 3  # it wraps at 256
     assert presses.reading("nowhere", [True], None) == []
+
+
+def test_a_cuff_button_is_an_event_once_a_press_not_while_it_is_held():
+    cuffs = CuffPresses()
+    assert cuffs.reading("left", "upper_button", False) == []
+    assert kinds(cuffs.reading("left", "upper_button", True)) == ["button left_cuff dash"]
+    assert cuffs.reading("left", "upper_button", True) == []  # held: Baxter repeats its state
+    assert kinds(cuffs.reading("right", "lower_cuff", True)) == ["button right_cuff squeeze"]
+    assert cuffs.reading("left", "upper_button", False) == []  # let go
+    assert kinds(cuffs.reading("left", "upper_button", True)) == ["button left_cuff dash"]
+    assert kinds(cuffs.reading("right", "lower_button", 1)) == ["button right_cuff circle"]
+    assert cuffs.reading("torso", "upper_button", True) == []  # no such cuff
+    assert cuffs.reading("left", "shoulder_button", True) == []  # an input that is no cuff's button
+
+
+def test_a_cuff_press_reaches_the_handlers_that_name_it():
+    pressed = CuffPresses().reading("right", "upper_button", True)[0]
+    assert matches(n.Event("button", "dash"), pressed)  # any cuff's dash
+    assert matches(n.Event("button", "right_cuff dash"), pressed)
+    assert not matches(n.Event("button", "left_cuff dash"), pressed)
+    assert not matches(n.Event("button", "circle"), pressed)
+    assert not matches(n.Event("button", "ok"), pressed)  # a navigator's

@@ -38,6 +38,12 @@ def test_values_as_rospy_and_launch_files_give_them():
         ({"fps": float("nan")}, "~fps must be from 1 to 120, not nan"),
         ({"size": "huge"}, "~size must look like 1024x600, not 'huge'"),
         ({"audio": "loud"}, "~audio must be soundplay, local or none, not 'loud'"),
+        (
+            {"listen": "/nonexistent/hello.wav"},
+            "~listen must be default or a WAV file, not '/nonexistent/hello.wav'",
+        ),
+        ({"listen": "mic"}, "~listen must be default or a WAV file, not 'mic'"),
+        ({"barge_in": "maybe"}, "~barge_in must be true or false, not 'maybe'"),
         ({"idle": "maybe"}, "~idle must be true or false, not 'maybe'"),
         ({"camera_hfov": 200}, "~camera_hfov must be from 1 to 179 degrees, not 200"),
         ({"camera_hfov": "wide"}, "~camera_hfov must be a number, not 'wide'"),
@@ -75,3 +81,11 @@ def test_binning_divides_the_focal_length_and_an_uncalibrated_camera_gives_none(
     assert camera_info_topic("/cameras/head_camera/image") == "/cameras/head_camera/camera_info"
     assert camera_info_topic("image_raw") == "camera_info"
     assert camera_info_topic("/image") == "/camera_info"
+
+
+def test_listen_is_off_the_default_device_or_a_recording(tmp_path):
+    assert (read().listen, read().barge_in) == ("", False)
+    assert read(listen="default", barge_in="true").listen == "default" and read(barge_in=True).barge_in
+    wav = tmp_path / "hello.wav"
+    wav.write_bytes(b"RIFF")  # read when the node listens: a bad one is said then, in the log
+    assert read(listen=str(wav)).listen == str(wav)

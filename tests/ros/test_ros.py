@@ -1244,3 +1244,166 @@ def test_handlers_sent_to_the_node_react_to_buttons_signals_and_the_sonar(ros):
             left.unregister()
             sonar.unregister()
         assert proc.poll() is None
+
+
+def test_a_cuff_button_runs_its_handler_once_a_press(ros):
+    import rospy
+
+    from baxterface_cli.ros.messages import message_class
+
+    DigitalIOState = message_class("DigitalIOState")
+    with running_node(ros) as (proc, state):
+        chatter("on button left_cuff dash { happy }\non button squeeze { sad }")
+        report(state, test=lambda r: len(r.get("handlers", {})) == 2)
+        dash = rospy.Publisher("/robot/digital_io/left_upper_button/state", DigitalIOState, queue_size=10)
+        squeeze = rospy.Publisher("/robot/digital_io/right_lower_cuff/state", DigitalIOState, queue_size=10)
+        try:
+            pressed, released = DigitalIOState(state=1), DigitalIOState(state=0)
+            deadline = time.monotonic() + 30
+            while True:  # a press is a release then a push: the node sees each edge once
+                dash.publish(released)
+                time.sleep(0.05)
+                dash.publish(pressed)
+                try:
+                    record = report(state, test=lambda r: r["emotion"] == "happy", timeout=0.5)
+                    break
+                except AssertionError:
+                    assert time.monotonic() < deadline, "the cuff's press never reached the node"
+            report(state, test=lambda r: r["emotion"] == "happy" and not r["playing"])
+            for _ in range(5):  # held: Baxter says so again and again, and that is no press
+                dash.publish(pressed)
+            # `button squeeze` takes either cuff's squeeze: the right one, here.
+            record = publish_until_heard(squeeze, pressed, state, lambda r: r["emotion"] == "sad")
+            assert runs(record, "line 1 'on button left_cuff dash'") == runs(record, "line 2") == 1
+        finally:
+            dash.unregister()
+            squeeze.unregister()
+        assert proc.poll() is None
+
+
+def stream_state(ros, timeout=30.0):
+    """The ~state of the one `baxterface stream` running (its node's name is made up at start)."""
+    import rosgraph
+    from std_msgs.msg import String
+
+    master = rosgraph.Master("/pytest_stream")
+    deadline = time.monotonic() + timeout
+    while True:
+        topics = [t for t, _ in master.getPublishedTopics("/")]
+        found = [t for t in topics if t.startswith("/baxterface_stream") and t.endswith("/state")]
+        if found:
+            return Topic(found[0], String)
+        assert time.monotonic() < deadline, f"no stream's state among {topics}"
+        time.sleep(0.1)
+
+
+def test_stream_runs_a_script_that_reacts_until_its_duration(ros):
+    from sensor_msgs.msg import Image
+
+    screen = Topic("/robot/xdisplay", Image)
+    script = "on signal poke { happy }\non button left_cuff dash { sad }"
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "baxterface_cli", "stream", "--no-idle", "--duration", "12", "-e", script],
+        cwd=str(ROOT),
+        env=ros,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    state = stream_state(ros)
+    try:
+        report(state, test=lambda r: len(r.get("handlers", {})) == 2 and r["emotion"] is None)
+        screen.wait_for()
+        shown = len(screen.messages)
+        before = screen.messages[-1][1].data
+        # `baxterface send`, as a user raises the signal: the stream takes it from display_chatter.
+        sent = baxterface("send", "signal poke", env=ros)
+        assert sent.code == 0, sent.err
+        record = report(state, test=lambda r: r["emotion"] == "happy")
+        assert runs(record, "line 1 'on signal poke'") == 1
+        changed = screen.wait_for(lambda m: m.data != before, after=shown)
+        assert changed.encoding == "bgr8"
+        out, err = proc.communicate(timeout=60)  # it runs until --duration: a reacting script has no end
+    finally:
+        state.close()
+        screen.close()
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+    assert proc.returncode == 0, err
+    assert "streamed 12.0" in err and "Traceback" not in err
+
+
+def test_stream_of_a_reacting_script_without_handlers_ends_when_it_is_done(ros):
+    run = baxterface("stream", "--no-idle", "-e", "one of { happy | sad }\nsignal poke\nwait 0.3s", env=ros)
+    assert run.code == 0, run.err
+    assert "streamed" in run.err and " live" in run.err
+
+
+@pytest.fixture(scope="module")
+def robot_wav(tmp_path_factory):
+    """espeak-ng saying "look at that robot", as a microphone would have heard it."""
+    if shutil.which("espeak-ng") is None and not os.environ.get("CI"):
+        pytest.skip("espeak-ng is not installed")
+    path = tmp_path_factory.mktemp("heard") / "that.wav"
+    subprocess.run(["espeak-ng", "-v", "en-us", "-w", str(path), "look at that robot"], check=True)
+    return path
+
+
+def test_the_node_hears_a_word_from_its_listen_recording_and_runs_the_handler(ros, robot_wav):
+    from std_msgs.msg import String
+
+    state = Topic("/baxter_face/state", String)
+    proc = start_node(ros, f"_listen:={robot_wav}", "_audio:=none")
+    try:
+        state.wait_for(timeout=30)
+        # Sent live: the recording plays into the spotter once something listens for a word.
+        chatter('on word "robot" { happy }')
+        record = report(state, test=lambda r: r["emotion"] == "happy", timeout=60)
+        assert runs(record, "line 1 'on word \"robot\"'") == 1
+    finally:
+        state.close()
+        proc.send_signal(signal.SIGTERM)
+        out = proc.communicate(timeout=20)[0].decode()
+        forget_parameters(ros)
+    assert proc.returncode == 0 and "Traceback" not in out, out
+    assert f"listening: listening to {robot_wav} as a microphone" in out and 'heard word "robot"' in out
+
+
+def test_a_node_told_to_listen_without_a_microphone_says_so_and_goes_on(ros):
+    from std_msgs.msg import String
+
+    state = Topic("/baxter_face/state", String)
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "baxterface_cli", "node", "_idle:=false", "_listen:=default", "_audio:=none"],
+        cwd=str(ROOT),
+        env=ros,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+    )
+    try:
+        state.wait_for(timeout=30)
+        chatter("happy")  # the face goes on without its ears
+        report(state, test=lambda r: r["emotion"] == "happy")
+    finally:
+        state.close()
+        proc.send_signal(signal.SIGTERM)
+        out = proc.communicate(timeout=20)[0].decode()
+        forget_parameters(ros)
+    assert proc.returncode == 0 and "Traceback" not in out, out
+    if "no words are heard" not in out:  # a machine with a microphone: the face hears with it
+        pytest.skip("this machine has a microphone")
+    line = next(line for line in out.splitlines() if "no words are heard" in line)
+    assert "microphone" in line or "sounddevice" in line or "PortAudio" in line
+
+
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["--listen", "-e", "on signal poke { happy }"], "--listen: the script listens for no words"),
+        (["--duration", "5", "-e", "happy"], "--duration is for a script that reacts"),
+    ],
+)
+def test_stream_refuses_options_that_fit_no_script_before_ros(args, message):
+    run = baxterface("stream", *args, env=dict(os.environ, ROS_MASTER_URI="http://127.0.0.1:9"))
+    assert run.code == 2 and message in run.err and "Traceback" not in run.err

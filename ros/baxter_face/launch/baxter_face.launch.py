@@ -32,6 +32,8 @@ ARGUMENTS = [
     ("face_seen_after", "0.2", "seconds a face is found in the head camera before `face seen`"),
     ("face_lost_after", "0.8", "seconds unseen before `face lost`"),
     ("person_near", "1.0", "metres from the head sonar that make `person near`"),
+    ("listen", "", "words for `on word`: default (the microphone), a WAV file's path, or empty: none"),
+    ("barge_in", "false", "hear words while the face speaks"),
     ("transport", "shm", "how frames reach this host's peers: shm (shared memory, UDP beside it) or default"),
 ]
 

@@ -1,0 +1,93 @@
+"""`baxterface stream` of a script that reacts: the face node's loop and senses, here.
+
+A script with handlers, waits, signals, `forever` or `one of` runs on a live session as the node
+runs it (face_loop.py, robot_senses.py: the same code, not a copy), with the same robot events:
+the navigators, the cuffs, the head sonar, the camera, `signal NAME` on display_chatter and,
+with `listen`, words. It runs until the script has nothing left to do and no handlers, `duration`
+seconds, or Ctrl-C. Only `signal NAME` is taken from display_chatter: other commands there are the
+face node's, if one runs.
+"""
+
+from __future__ import annotations
+
+import time
+from typing import Any, List, Optional
+
+from ..drawing.renderer import Renderer
+from ..engine.live_session import LiveSession
+from ..engine.log_backlog import Backlog
+from ..engine.session_intake import SIGNAL_ALONE
+from ..language import syntax_tree as n
+from .connect import open_link
+from .effect_messages import DISPLAY_TOPICS
+from .face_loop import FaceLoop
+from .link import CHATTER
+from .node_settings import NodeSettings
+from .speakers import default_audio, open_speaker
+
+CONNECT = 5.0  # seconds ROS 2 may take to find the screen before the script starts anyway
+
+
+class Deaf(Exception):
+    """`--listen` cannot hear: the microphone, its module or the speech model is missing."""
+
+
+def stream_live(
+    script: n.Script,
+    renderer: Renderer,
+    robot: str,
+    fps: float,
+    argv: List[str],
+    audio: Optional[str] = None,
+    version: int = 1,
+    duration: Optional[float] = None,
+    listen: bool = False,
+    barge_in: bool = False,
+    session_options: Optional[dict] = None,
+) -> float:
+    """Run `script` on the robot, reacting, until it is done (see the module's docstring); the
+    seconds it ran. `session_options` go to the LiveSession (seed, idle, recordings, crossfade)."""
+    settings = NodeSettings(
+        fps=fps, display_topic=DISPLAY_TOPICS[robot], listen="default" if listen else "", barge_in=barge_in
+    )
+    with open_link(version, "baxterface_stream", argv, anonymous=True, leaving="streamed") as link:
+        log = Backlog(link.log)
+        speaker = open_speaker(audio or default_audio(version), link, log.warn, "--audio")
+        session = LiveSession(now=time.monotonic(), **(session_options or {}))
+        loop = FaceLoop(link, session, settings, renderer, speaker, log, filename=script.filename)
+
+        def heard(msg: Any) -> None:  # display_chatter: the signals only
+            if SIGNAL_ALONE.fullmatch(msg.data):
+                loop.intake.submit(msg.data)
+
+        link.subscribe(CHATTER, "std_msgs/String", heard, queue=100)
+        _wait_for_screen(loop, CONNECT if version == 2 else 0.5)
+        start = time.monotonic()
+        taken = loop.intake.take(script)  # the worker starts it, as a command that takes over
+
+        def done(now: float) -> bool:
+            if taken.done() and taken.exception() is not None:
+                raise taken.exception()  # a `say` espeak-ng cannot say, a recording gone: ScriptError
+            if duration is not None:
+                return now >= start + duration
+            s = session  # read without its lock: its worker swaps these whole
+            idle = s.active is None and not s.pending and (s.main is None or s.main.done)
+            finished = not s.handlers and idle and loop.intake.idle() and s.face.finished(now)
+            return taken.done() and finished
+
+        def deaf(problem: str) -> None:
+            raise Deaf(problem)
+
+        try:
+            ended = loop.run(done, deaf if listen else None)
+        finally:
+            log.close()
+    return ended - start
+
+
+def _wait_for_screen(loop: FaceLoop, most: float) -> None:
+    """Until the screen (or anything) subscribes, at least half a second and at most `most`."""
+    start = time.monotonic()
+    time.sleep(0.5)
+    while loop.image_pub.listeners() == 0 and time.monotonic() < start + most:
+        time.sleep(0.02)
