@@ -381,4 +381,6 @@ def _stream_live(script, renderer, robot, fps, ros_args, audio, version, duratio
         raise fail(f"baxterface stream: {e}") from None
     except ScriptError as e:
         raise fail(e.render()) from None
+    if duration is not None:  # it stops at the first frame at or past the duration: it ran that long
+        ran = min(ran, duration)
     typer.echo(f"streamed {ran:.2f} s live", err=True)

@@ -1,7 +1,7 @@
 """The screen's web API: the face routes every page has (web/face_api.py) over a `ScreenFace`,
 `GET /api/state`, and the events that reach its handlers: `POST /api/event` (one event line, as
 in an events file without its time: web/face_api.py's, as the studio's) and `POST /api/touch`
-(where the page was tapped).
+(where the page was tapped: web/face_api.py's too).
 
 `/` is the screen's page (static/screen.html): the face alone, filling the
 window. Imported only once the `studio` extra is known to be there.
@@ -24,7 +24,7 @@ from ..drawing.renderer import Renderer
 from ..engine.session_intake import Refused
 from ..language import syntax_tree as n
 from ..language.events import in_words
-from ..web.face_api import BadRequest, Busy, FaceApi, answered, body_json
+from ..web.face_api import Busy, FaceApi, answered
 from .screen_face import ScreenFace
 
 STATIC = Path(__file__).resolve().parent / "static"
@@ -82,15 +82,3 @@ class ScreenApi(FaceApi):
     async def state(self, request: Request) -> Response:
         state = await run_in_threadpool(self.face.state)
         return JSONResponse({**state, "screens": len(self.pages.queues)})
-
-    @answered
-    async def touch(self, request: Request) -> Response:
-        """A tap on the page, at `x` and `y`: fractions of the frame's width and height (the page
-        knows where it drew the frame; what is drawn there is found here, at this moment)."""
-        body = await body_json(request)
-        where = [body.get(k) for k in ("x", "y")]
-        if not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in where):
-            raise BadRequest('a touch is JSON with x and y, fractions of the frame: {"x": 0.3, "y": 0.4}')
-        x, y = (float(v) for v in where)
-        place = await run_in_threadpool(lambda: self.frames.place(self.face.face(), x, y))
-        return await self.raised(n.Event("touch", place), "a tap on the page")
