@@ -1,25 +1,29 @@
 """Hearing words (`on word "..."`): hits and false alarms on voices nothing was tuned on, the face's
 own speech, and the time from a word's end to the reaction's first frame.
 
-    .venv/bin/python bench/bench_words.py [--tune | --latency-only] [--latency-runs N]
+    .venv/bin/python bench/bench_words.py [--tune | --latency-only] [--latency-runs N] [--keyphrase]
 
 The recordings are made by espeak-ng: sentences with and without the phrases "hello", "goodbye"
 and "robot", 0.6 s apart, white noise 20 dB under the voice (RMS over its voiced part).
 
-- `--tune`: sweeps word_spotter.PER_PHONE on the tuning voices (en-us, en-gb: the tests' voice
+- `--tune`: sweeps phrase_ctc.THRESHOLD (hama's recogniser, the default) and
+  word_spotter.PER_PHONE (pocketsphinx alone) on the tuning voices (en-us, en-gb: the tests' voice
   and one more) and prints hits and false alarms for each value.
 - accuracy: on other voices (en-gb-scotland, en-029, en-gb-x-rp, en-gb-x-gbclan, en-us+f3),
-  with the PER_PHONE the module has: the share of phrases said that were heard (within the
-  sentence that says them), and false alarms (a phrase heard in a sentence that does not say
-  it) a minute of sound.
+  pocketsphinx alone at its PER_PHONE and hama's recogniser at its THRESHOLD (and at -0.5, -0.75
+  and -1 a phone): the share of phrases said that were heard (within the sentence that says
+  them), false alarms (a phrase heard in a sentence that does not say it, or heard twice in one
+  that does) a minute of sound, and the real-time factor (the spotter's CPU time over the
+  sound's length: one core).
 - the face's own speech: the face says all the sentences (en-us, its default voice), the
   spotter hears them through the air (the same samples, noise added) with `speaking` true while
   it says them: words told (goal 0), and words heard when barge-in lets them through.
-- latency: "look at that robot" (en-gb-x-gbclan, noise 30 dB under it) fed to a spotter in real
-  time (blocks of 50 ms on the monotonic clock, as a microphone gives them) while a live session
-  with `on word "robot" { happy }` is ticked at 30 fps on the same clock: from the word's end
-  (known from the recording) to the first frame whose face differs from the face without the
-  event (goal <= 400 ms).
+- latency: "look at that robot" (en-gb-x-gbclan, noise 30 dB under it, after 1 to 1.3 s of quiet:
+  a different phase each run) fed to a spotter in real time (blocks of 50 ms on the monotonic
+  clock, as a microphone gives them) while a live session with `on word "robot" { happy }` is
+  ticked at 30 fps on the same clock: from the word's end (known from the recording) to the first
+  frame whose face differs from the face without the event (goal <= 400 ms). `--keyphrase`: with
+  pocketsphinx alone listening.
 
 The machine's load is printed (`os.getloadavg`): under load the latency grows.
 """
@@ -40,6 +44,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
+from baxterface_cli.speech import phrase_ctc  # noqa: E402
 from baxterface_cli.speech import word_spotter as ws  # noqa: E402
 
 WORDS = ("hello", "goodbye", "robot")
@@ -71,6 +76,7 @@ TUNING = ("en-us", "en-gb")
 HELD_OUT = ("en-gb-scotland", "en-029", "en-gb-x-rp", "en-gb-x-gbclan", "en-us+f3")
 GAP = 0.6
 SNR_DB = 20.0
+METHOD = "keyphrase" if "--keyphrase" in sys.argv else None  # the latency's spotter: the default
 LATENCY_SNR_DB = 30.0  # a word alone at 20 dB is missed too often to time it
 
 
@@ -121,24 +127,28 @@ def score(heard: Sequence[ws.Heard], spans, seconds: float) -> Dict[str, float]:
     return {"said": said, "hits": hits, "alarms": alarms, "minutes": seconds / 60}
 
 
-def accuracy(voices: Sequence[str], folder: str, per_phones: Sequence[float]) -> None:
+def accuracy(voices: Sequence[str], folder: str, settings: Sequence[Dict[str, object]]) -> None:
     rng = np.random.default_rng(37)
     tracks = [track(v, folder, rng) for v in voices]
-    for per_phone in per_phones:
+    for options in settings:
         total = {"said": 0, "hits": 0, "alarms": 0, "minutes": 0.0}
-        rows = []
+        rows, cpu = [], 0.0
         for voice, (samples, spans) in zip(voices, tracks):
-            heard = ws.spot_samples(samples, WORDS, per_phone=per_phone)
+            began = time.process_time()
+            heard = ws.spot_samples(samples, WORDS, **options)  # type: ignore[arg-type]
+            cpu += time.process_time() - began
             s = score(heard, spans, len(samples) / ws.RATE)
             rows.append(f"{voice} {s['hits']}/{s['said']} {s['alarms']}fa")
             for k in total:
                 total[k] += s[k]
         rate = total["hits"] / total["said"]
         per_minute = total["alarms"] / total["minutes"]
+        shown = ", ".join(f"{k} {v:g}" if isinstance(v, float) else f"{k} {v}" for k, v in options.items())
         print(
-            f"  per phone 1e-{per_phone:g}: hit rate {rate:.0%} ({total['hits']}/{total['said']}), "
-            f"false alarms {per_minute:.1f}/min ({total['alarms']} in {total['minutes']:.1f} min)  "
-            + ", ".join(rows)
+            f"  {shown}: hit rate {rate:.0%} ({total['hits']}/{total['said']}), "
+            f"false alarms {per_minute:.1f}/min ({total['alarms']} in {total['minutes']:.1f} min), "
+            f"real-time factor {cpu / (total['minutes'] * 60):.2f}  " + ", ".join(rows),
+            flush=True,
         )
 
 
@@ -166,12 +176,16 @@ def latency(folder: str, runs: int) -> None:
     sentence = say("look at that robot", "en-gb-x-gbclan", folder)
     envelope = np.abs(sentence.astype(np.int32))
     last_loud = int(np.nonzero(envelope > 0.05 * envelope.max())[0][-1])
-    lead = np.zeros(int(1.0 * ws.RATE), np.int16)
-    tail = np.zeros(int(1.5 * ws.RATE), np.int16)
-    samples = noisy(np.concatenate([lead, sentence, tail]), np.random.default_rng(5), LATENCY_SNR_DB)
-    word_end = (len(lead) + last_loud + 1) / ws.RATE
     script = parse('on word "robot" { happy }\nforever { wait 1s }', "bench.face")
-    delays = [d for d in (_one_run(samples, script, word_end) for _ in range(runs)) if d is not None]
+    delays = []
+    for run in range(runs):
+        # the word ends at a different point of the spotter's blocks, looks and frames each run
+        lead = np.zeros(int((1.0 + run / runs * 0.3) * ws.RATE), np.int16)
+        tail = np.zeros(int(1.5 * ws.RATE), np.int16)
+        samples = noisy(np.concatenate([lead, sentence, tail]), np.random.default_rng(5), LATENCY_SNR_DB)
+        delay = _one_run(samples, script, (len(lead) + last_loud + 1) / ws.RATE)
+        if delay is not None:
+            delays.append(delay)
     if delays:
         print(
             f"  word end to the first changed frame over {len(delays)}/{runs} runs: "
@@ -196,7 +210,7 @@ def _one_run(samples: np.ndarray, script, word_end: float) -> Optional[float]:
         with lock:
             heard.append((w, at))
 
-    spotter = ws.WordSpotter(["robot"], on_word, clock=lambda: time.monotonic() - origin)
+    spotter = ws.WordSpotter(["robot"], on_word, clock=lambda: time.monotonic() - origin, method=METHOD)
     block = int(0.05 * ws.RATE)
 
     def microphone() -> None:  # the blocks arrive when their last sample has been heard
@@ -227,17 +241,23 @@ def _one_run(samples: np.ndarray, script, word_end: float) -> Optional[float]:
 def main() -> None:
     runs = int(sys.argv[sys.argv.index("--latency-runs") + 1]) if "--latency-runs" in sys.argv else 5
     load = ", ".join(f"{x:.1f}" for x in os.getloadavg())
-    print(f"load average {load} on {os.cpu_count()} cores; PER_PHONE {ws.PER_PHONE:g}")
+    print(
+        f"load average {load} on {os.cpu_count()} cores; "
+        f"PER_PHONE {ws.PER_PHONE:g}, THRESHOLD {phrase_ctc.THRESHOLD:g}"
+    )
     with tempfile.TemporaryDirectory() as folder:
         if "--latency-only" in sys.argv:
             latency(folder, runs)
             return
         if "--tune" in sys.argv:
             print(f"tuning on {', '.join(TUNING)}:")
-            accuracy(TUNING, folder, (4, 5, 6, 7, 8, 9, 10))
+            ctc = [{"method": "ctc", "ctc_threshold": t} for t in (-0.4, -0.5, -0.6, -0.75, -1.0)]
+            keyphrase = [{"method": "keyphrase", "per_phone": float(p)} for p in (3, 4, 5, 6)]
+            accuracy(TUNING, folder, ctc + keyphrase)
             return
         print(f"held-out voices ({', '.join(HELD_OUT)}), noise {SNR_DB:g} dB under the voice:")
-        accuracy(HELD_OUT, folder, (ws.PER_PHONE,))
+        around = [{"method": "ctc", "ctc_threshold": t} for t in (-0.5, -0.75, -1.0)]
+        accuracy(HELD_OUT, folder, [{"method": "keyphrase"}, {"method": "ctc"}] + around)
         print("the face's own speech:")
         own_speech(folder)
         print("a word to the reaction (real time):")

@@ -1,5 +1,6 @@
-"""`--events FILE` and `--duration T` of `render`, `play` and `explain`: a script that reacts, run
-by the live session over an events file (engine/session_run.py)."""
+"""`--events FILE`, `--hear FILE.wav` and `--duration T` of `render`, `play` and `explain`: a script
+that reacts, run by the live session over an events file and the words heard in a recording
+(engine/session_run.py)."""
 
 from __future__ import annotations
 
@@ -17,6 +18,12 @@ EVENTS_OPT = typer.Option(
     "--events",
     metavar="FILE",
     help="Events for the script's handlers, one a line: '2.5 face seen', '4 word \"hello\"'.",
+)
+HEAR_OPT = typer.Option(
+    None,
+    "--hear",
+    metavar="FILE.wav",
+    help="A recording: the script's 'word' phrases heard in it are events at the times they end.",
 )
 DURATION_OPT = typer.Option(
     None,
@@ -36,24 +43,23 @@ def reacting_animation(
     crossfade: Optional[float],
     duration: Optional[float],
     command: str,
+    hear: Optional[str] = None,
+    heard: Any = None,
 ) -> Tuple[Any, List[Any]]:
     """The animation to show, and the session's log ([] for a script that does not react and has
-    no events): the script compiled as always, or run by the session over `events`."""
+    no events): the script compiled as always, or run by the session over `events` and the words
+    heard in `hear` (or over `heard`, the two already read by `events_trace`)."""
     from ..engine.animation import Animation
     from ..engine.session_run import NeverRests, reactive, run_over
     from ..extras import MissingTool
-    from ..language.event_trace import read_trace
 
-    if events is None and not reactive(script):
+    if events is None and hear is None and not reactive(script):
         if duration is not None:
             raise fail(
                 f"baxterface {command}: --duration is for a script that reacts (with 'on', 'forever' ...)", 2
             )
         return animation_for(script, seed, idle, crossfade), []
-    try:
-        trace = None if events is None else read_trace("/dev/stdin" if events == "-" else events, events)
-    except ScriptError as e:
-        raise fail(e.render()) from None
+    trace = heard if heard is not None else events_trace(script, events, hear, command)
     try:
         run = run_over(script, trace, seed, duration, crossfade, recordings_of(script))
     except NeverRests as e:
@@ -63,6 +69,49 @@ def reacting_animation(
     except ScriptError as e:
         raise fail(e.render()) from None
     return Animation(run.timeline, idle=idle, seed=seed), run.log  # type: ignore[arg-type]
+
+
+def events_trace(script: Script, events: Optional[str], hear: Optional[str], command: str) -> Any:
+    """The events of `events` (a file, or "-": stdin) and the phrases heard in the recording `hear`,
+    in time order (None for neither); a one-line exit for a bad file, a missing extra, or a script
+    that waits for no words."""
+    from ..language.event_trace import Posted, Trace, read_trace
+
+    try:
+        trace = None if events is None else read_trace("/dev/stdin" if events == "-" else events, events)
+    except ScriptError as e:
+        raise fail(e.render()) from None
+    if hear is None:
+        return trace
+    heard = [Posted(at, event, 0) for at, event in heard_words(script, hear, command)]
+    posted = sorted(list(trace.events if trace is not None else ()) + heard, key=lambda p: p.at)
+    return Trace(tuple(posted), trace.filename if trace is not None else hear)
+
+
+def heard_words(script: Script, path: str, command: str) -> List[Tuple[float, Any]]:
+    """(when it ended, a `word` event) for each of the script's phrases heard in the WAV at `path`."""
+    import wave
+
+    from ..extras import MissingTool
+    from ..language.syntax_tree import Event
+    from .play_live import words_of
+
+    words = words_of(script)
+    if not words:
+        wanted = "'on word \"hello\" { ... }'"
+        raise fail(f"baxterface {command}: --hear: the script waits for no words ({wanted})", 2)
+    try:
+        from ..speech.word_spotter import WordError, spot_file
+
+        heard = spot_file(path, words)
+    except MissingTool as e:
+        raise fail(f"baxterface {command}: --hear: {e}") from None
+    except WordError as e:
+        raise fail(f"baxterface {command}: --hear: {e}", 2) from None
+    except (OSError, EOFError, wave.Error) as e:
+        why = e.strerror if isinstance(e, OSError) and e.strerror else str(e) or "cut short"
+        raise fail(f"baxterface {command}: --hear: {path}: not a WAV file it can read ({why})") from None
+    return [(h.at, Event("word", h.word)) for h in heard]
 
 
 def handlers_need_events(script: Script, events: Optional[str], command: str) -> None:

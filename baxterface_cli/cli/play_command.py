@@ -27,7 +27,14 @@ from .app import (
     load_script,
     script_from,
 )
-from .events_option import DURATION_OPT, EVENTS_OPT, handlers_need_events, reacting_animation
+from .events_option import (
+    DURATION_OPT,
+    EVENTS_OPT,
+    HEAR_OPT,
+    events_trace,
+    handlers_need_events,
+    reacting_animation,
+)
 
 
 def play(
@@ -51,6 +58,7 @@ def play(
     follow_from: Optional[str] = FOLLOW_FROM_OPT,
     face_policy: Optional[str] = FACE_POLICY_OPT,
     events: Optional[str] = EVENTS_OPT,
+    hear: Optional[str] = HEAR_OPT,
     duration: Optional[float] = DURATION_OPT,
     listen: bool = typer.Option(
         False, "--listen", help="Hear the script's 'on word' phrases from this machine's microphone."
@@ -65,7 +73,8 @@ def play(
     following. A script that says something speaks through this machine's
     sound device, in step with the picture. A script that follows someone
     follows them in FILE with --follow-from. A script with handlers meets the events of
-    --events FILE at their times; in a window, and with --listen, it runs live: a click on the
+    --events FILE at their times, and the words it waits for heard in --hear FILE.wav; in a
+    window, and with --listen, it runs live: a click on the
     face is a `touch` (with its place), a phrase heard from the microphone a `word`, until the
     window closes, --duration passes or the face exits. Ctrl-C stops.
     """
@@ -76,10 +85,12 @@ def play(
     if watch and (script_path in (None, "-") or inline is not None):
         raise fail("baxterface play: --watch needs a SCRIPT file", 2)
     script = script_from(script_path, inline, "play")
-    if watch and (events is not None or reactive(script) or listen):
+    if watch and (events is not None or hear is not None or reactive(script) or listen):
         raise fail("baxterface play: --watch plays scripts that do not react, for now", 2)
     if barge_in and not listen:
         raise fail("baxterface play: --barge-in goes with --listen", 2)
+    # the words heard first: a recording it cannot read is the error, wherever it would play
+    heard = None if hear is None else events_trace(script, events, hear, "play")
     why_not = window_available()
     if window is None:
         window = why_not is None
@@ -88,16 +99,17 @@ def play(
     if listen or (window and reactive(script)):
         from .play_live import play_live
 
-        play_live(script, events, window, fps, size, seed, theme, idle, crossfade, duration, listen, barge_in)
+        given = events if heard is None else heard
+        play_live(script, given, window, fps, size, seed, theme, idle, crossfade, duration, listen, barge_in)
         return
-    handlers_need_events(script, events, "play")
+    handlers_need_events(script, events or hear, "play")
     if not window and not sys.stdout.isatty():
         raise fail(
             "baxterface play: no display and no terminal to play in; "
             "use 'baxterface render SCRIPT --out show.gif' to make a file instead"
         )
     renderer = Renderer(fitted_theme(theme, size, "play"))
-    animation, _ = reacting_animation(script, events, seed, idle, crossfade, duration, "play")
+    animation, _ = reacting_animation(script, events, seed, idle, crossfade, duration, "play", hear, heard)
     held: List[str] = []  # a terminal's face would cover the line; it is said when the face is gone
 
     def say(line: str) -> None:

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import contextlib
 import sys
-from typing import List, Optional
+from typing import Any, List, Optional
 
 import typer
 
@@ -28,7 +28,7 @@ def words_of(script: n.Script) -> List[str]:
 
 def play_live(
     script: n.Script,
-    events: Optional[str],
+    events: Any,  # a path, or the events already read (a Trace: `play --hear`)
     window: bool,
     fps: float,
     size: Optional[str],
@@ -53,7 +53,9 @@ def play_live(
             "baxterface play: --listen: the script listens for no words ('on word \"hello\" { ... }')", 2
         )
     try:
-        trace = None if events is None else read_trace("/dev/stdin" if events == "-" else events, events)
+        trace = events
+        if isinstance(events, str):
+            trace = read_trace("/dev/stdin" if events == "-" else events, events)
     except ScriptError as e:
         raise fail(e.render()) from None
     renderer = Renderer(fitted_theme(theme, size, "play"))

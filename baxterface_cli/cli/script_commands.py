@@ -31,7 +31,7 @@ from .app import (
     load_script,
     script_from,
 )
-from .events_option import DURATION_OPT, EVENTS_OPT, reacting_animation
+from .events_option import DURATION_OPT, EVENTS_OPT, HEAR_OPT, reacting_animation
 
 if TYPE_CHECKING:  # imported where used: `check` needs neither drawing nor playing
     from ..drawing.renderer import Renderer
@@ -85,6 +85,7 @@ def explain(
         False, "--grouped", help="Statements first, then face changes, robot commands and words."
     ),
     events: Optional[str] = EVENTS_OPT,
+    hear: Optional[str] = HEAR_OPT,
     duration: Optional[float] = DURATION_OPT,
 ) -> None:
     """Explain a script's timeline: what starts and ends when.
@@ -93,13 +94,14 @@ def explain(
     time order (--grouped: statements, then face, robot and words). With
     --json, print one record per frame with the whole face state (skin,
     mouth, brows, eyes, eyelids, head pan, crossfade) and the robot's status. With --events,
-    the events, which handler ran when, and what each dropped or queued.
+    the events, which handler ran when, and what each dropped or queued; with --hear, the
+    script's words heard in a recording are events too.
     """
     from ..engine.explanation import explained, frame_times
     from ..engine.timeline import state_record
 
     script = script_from(script_path, inline, "explain")
-    animation, log = reacting_animation(script, events, seed, idle, crossfade, duration, "explain")
+    animation, log = reacting_animation(script, events, seed, idle, crossfade, duration, "explain", hear)
     timeline = animation.timeline
     if as_json:
         for t in frame_times(timeline.duration, fps):  # the frames `render` draws
@@ -139,6 +141,7 @@ def render(
     follow_from: Optional[str] = FOLLOW_FROM_OPT,
     face_policy: Optional[str] = FACE_POLICY_OPT,
     events: Optional[str] = EVENTS_OPT,
+    hear: Optional[str] = HEAR_OPT,
     duration: Optional[float] = DURATION_OPT,
 ) -> None:
     """Render a script to a video, an animation, a ROS bag or image files.
@@ -150,7 +153,8 @@ def render(
     in '/' (or an existing folder) gets frame_00000.png, ... Files appear only
     once complete. A script that follows someone follows them in FILE with
     --follow-from, as `play` shows it. A script that reacts (`on face seen { ... }`) meets the
-    events of --events FILE at their times: the same script, events and seed make the same frames.
+    events of --events FILE at their times, and the words it waits for heard in --hear FILE.wav:
+    the same script, events and seed make the same frames.
     """
     from ..drawing.renderer import Renderer
     from ..export.registry import format_for
@@ -173,7 +177,7 @@ def render(
     drawn = [0, 0]  # frames drawn, frames in all: what Ctrl-C reports
     try:
         script = script_from(script_path, inline, "render")
-        animation, _ = reacting_animation(script, events, seed, idle, crossfade, duration, "render")
+        animation, _ = reacting_animation(script, events, seed, idle, crossfade, duration, "render", hear)
         say = lambda line: typer.echo(line, err=True)  # noqa: E731
         follow = following_from(follow_from, animation, "render", say, face_policy)
         if at is not None and at > animation.duration:

@@ -1,14 +1,18 @@
-"""Words heard from a microphone or a recording, offline: pocketsphinx's keyphrase search
-(the `[lipsync]` extra, whose wheel ships the English model; nothing is downloaded).
+"""Words heard from a microphone or a recording, offline (the `[lipsync]` extra, whose wheels ship
+their models; nothing is downloaded).
 
 A `WordSpotter` is given the phrases a script's `on word "..."` handlers wait for, and takes
 audio in blocks (16 kHz mono int16) as it comes. Each phrase it hears is told to `on_word`
 with the time it ended, on the caller's clock. It knows no ROS, device or session: a
 microphone (sound_device.Microphone), a recording (`spot_file`) or a test feeds it.
 
-How sure it must be grows with a phrase's length: pocketsphinx scores a phrase by the product
-of its phones' likelihoods, so its threshold is a power of ten per phone (`PER_PHONE`), tuned on
-recordings (bench/bench_words.py) and measured on other voices (docs/speech.md).
+Each phrase is spelled by pocketsphinx's dictionary (a word it lacks is a WordError). Where hama's
+phoneme recogniser runs (Python 3.9 on), the phrase's phones are found in what it hears
+(phrase_ctc.py: about twice as few false alarms as pocketsphinx for as many phrases heard, on
+voices nothing was tuned on; docs/speech.md). Elsewhere pocketsphinx's keyphrase search listens
+alone; how sure it must be grows with a phrase's length (a product of its phones' likelihoods),
+so its threshold is a power of ten per phone (`PER_PHONE`). Both are tuned by
+bench/bench_words.py --tune.
 
 The face does not hear itself: a phrase heard while `speaking(at)` says the face was speaking,
 at the phrase's start or end or within `ECHO` after the face stopped, is ignored (and counted),
@@ -21,7 +25,7 @@ import os
 import tempfile
 import threading
 import wave
-from typing import Any, Callable, Dict, List, NamedTuple, Optional, Sequence
+from typing import Any, Callable, Dict, List, NamedTuple, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -61,11 +65,55 @@ def _pocketsphinx() -> Any:
     return need("pocketsphinx", EXTRA, "hearing words")
 
 
+class _KeyphraseSearch:
+    """pocketsphinx's keyphrase search (where hama cannot run): (phrase, start, end) in samples."""
+
+    def __init__(self, ps: Any, phones: Dict[str, int], per_phone: float) -> None:
+        lines = [f"{phrase} /{threshold(n, per_phone):.3g}/\n" for phrase, n in phones.items()]
+        handle, path = tempfile.mkstemp(suffix=".kws", prefix="baxterface-")
+        try:
+            with os.fdopen(handle, "w") as f:
+                f.writelines(lines)
+            self._decoder = ps.Decoder(kws=path, loglevel="FATAL")
+        finally:
+            os.unlink(path)
+        self._offset = 0  # samples fed before this utterance began
+        self._samples = 0  # fed since it began
+        self._last_found = 0
+        self._told: Dict[tuple, bool] = {}
+        self._decoder.start_utt()
+
+    def feed(self, samples: np.ndarray) -> List[Tuple[str, int, int]]:
+        self._decoder.process_raw(samples.tobytes(), False, False)
+        self._samples += len(samples)
+        found = []
+        if self._decoder.hyp() is not None:
+            for seg in self._decoder.seg():
+                key = (seg.word, seg.start_frame)
+                if key not in self._told:
+                    self._told[key] = True
+                    at = [self._offset + int(f * FRAME * RATE) for f in (seg.start_frame, seg.end_frame)]
+                    found.append((seg.word, at[0], at[1]))
+                    self._last_found = self._samples
+        if self._samples > RESTART * RATE and self._samples - self._last_found > RATE:
+            # a long search's segments grow; cut where no phrase was just heard
+            self._decoder.end_utt()
+            self._decoder.start_utt()
+            self._offset += self._samples
+            self._samples = self._last_found = 0
+            self._told.clear()
+        return found
+
+    def close(self) -> None:
+        self._decoder.end_utt()
+
+
 class WordSpotter:
     """Phrases heard in audio fed block by block (see the module's docstring).
 
     `clock()` gives the time at which the block being fed ended (the sound's last sample was
-    heard); `feed(block, end=...)` may say it instead (a recording's own time).
+    heard); `feed(block, end=...)` may say it instead (a recording's own time). `method` is
+    "ctc" (hama's recogniser: the default where it runs) or "keyphrase" (pocketsphinx alone).
     """
 
     def __init__(
@@ -76,6 +124,8 @@ class WordSpotter:
         speaking: Optional[Callable[[float], bool]] = None,
         barge_in: bool = False,
         per_phone: float = PER_PHONE,
+        method: Optional[str] = None,
+        ctc_threshold: Optional[float] = None,
     ) -> None:
         ps = _pocketsphinx()
         self.words = list(dict.fromkeys(phrase_of(w) for w in words if w.strip()))
@@ -88,27 +138,22 @@ class WordSpotter:
         self.heard: List[Heard] = []  # everything told to on_word, in order
         self.ignored: List[Heard] = []  # heard while the face spoke
         self._lock = threading.Lock()  # a microphone's thread feeds; `close` may come from another
-        lookup = ps.Decoder(lm=None, loglevel="FATAL")
-        lines = []
-        for phrase in self.words:
-            phones = 0
-            for word in phrase.split():
-                found = lookup.lookup_word(word)
-                if found is None:
-                    raise WordError(f"'{word}' is not a word the speech model knows (in \"{phrase}\")")
-                phones += len(found.split())
-            lines.append(f"{phrase} /{threshold(phones, per_phone):.3g}/\n")
-        handle, path = tempfile.mkstemp(suffix=".kws", prefix="baxterface-")
-        try:
-            with os.fdopen(handle, "w") as f:
-                f.writelines(lines)
-            self._decoder = ps.Decoder(kws=path, loglevel="FATAL")
-        finally:
-            os.unlink(path)
-        self._samples = 0  # fed since this utterance began
-        self._last_found = 0  # samples at the last phrase found
-        self._told: Dict[tuple, bool] = {}
-        self._decoder.start_utt()
+        spellings = _spellings(ps.Decoder(lm=None, loglevel="FATAL"), self.words)
+        if method is None:
+            from . import phoneme_recogniser
+
+            method = "ctc" if phoneme_recogniser.available() else "keyphrase"
+        self.method = method
+        if method == "ctc":
+            from .phrase_ctc import THRESHOLD, CtcSearch
+
+            self._search: Any = CtcSearch(
+                list(spellings.items()), THRESHOLD if ctc_threshold is None else ctc_threshold
+            )
+        else:
+            phones = {phrase: len(spelled[0]) for phrase, spelled in spellings.items()}
+            self._search = _KeyphraseSearch(ps, phones, per_phone)
+        self._samples = 0  # fed in all
 
     def feed(self, block: np.ndarray, end: Optional[float] = None) -> List[Heard]:
         """Take a block of 16 kHz mono int16 samples; the phrases it completed (also told to
@@ -116,25 +161,14 @@ class WordSpotter:
         if end is None:
             end = self.clock() if self.clock is not None else (self._samples + len(block)) / RATE
         samples = np.ascontiguousarray(block, dtype=np.int16).reshape(-1)
-        found: List[Heard] = []
         with self._lock:
-            self._decoder.process_raw(samples.tobytes(), False, False)
+            found = self._search.feed(samples) if len(samples) else []
             self._samples += len(samples)
             fed_end = self._samples
-            if self._decoder.hyp() is not None:
-                for seg in self._decoder.seg():
-                    key = (seg.word, seg.start_frame)
-                    if key in self._told:
-                        continue
-                    self._told[key] = True
-                    ago = (fed_end - seg.end_frame * FRAME * RATE) / RATE
-                    length = (seg.end_frame - seg.start_frame) * FRAME
-                    found.append(Heard(phrase_of(seg.word), end - ago, end - ago - length))
-                    self._last_found = self._samples
-            if self._samples > RESTART * RATE and self._samples - self._last_found > RATE:
-                self._restart()  # a long search's segments grow; cut where no phrase was just heard
         told = []
-        for heard in found:
+        for phrase, first, last in found:
+            ago = (fed_end - last) / RATE
+            heard = Heard(phrase_of(phrase), end - ago, end - ago - (last - first) / RATE)
             if self._muted(heard):
                 self.ignored.append(heard)
             else:
@@ -143,12 +177,6 @@ class WordSpotter:
                 self.on_word(heard.word, heard.at)
         return told
 
-    def _restart(self) -> None:
-        self._decoder.end_utt()
-        self._decoder.start_utt()
-        self._samples = self._last_found = 0
-        self._told.clear()
-
     def _muted(self, heard: Heard) -> bool:
         if self.barge_in or self.speaking is None:
             return False
@@ -156,7 +184,31 @@ class WordSpotter:
 
     def close(self) -> None:
         with self._lock:
-            self._decoder.end_utt()
+            if hasattr(self._search, "close"):
+                self._search.close()
+
+
+def _spellings(lookup: Any, phrases: Sequence[str]) -> Dict[str, List[List[str]]]:
+    """Each phrase's spellings in pocketsphinx's phones: its words' first spellings one after another,
+    and the phrase with each word's other spellings in turn ("hello": HH AH L OW, HH EH L OW)."""
+    out = {}
+    for phrase in phrases:
+        words = []
+        for word in phrase.split():
+            found = lookup.lookup_word(word)
+            if found is None:
+                raise WordError(f"'{word}' is not a word the speech model knows (in \"{phrase}\")")
+            spelled = [found.split()]
+            for i in range(2, 6):
+                other = lookup.lookup_word(f"{word}({i})")
+                if other is None:
+                    break
+                spelled.append(other.split())
+            words.append(spelled)
+        first = [w[0] for w in words]
+        variants = [first] + [first[:i] + [s] + first[i + 1 :] for i, w in enumerate(words) for s in w[1:]]
+        out[phrase] = [[p for w in v for p in w] for v in variants]
+    return out
 
 
 def read_wav(path: str) -> np.ndarray:
@@ -177,13 +229,11 @@ def spot_samples(
     block: float = 0.05,
     speaking: Optional[Callable[[float], bool]] = None,
     barge_in: bool = False,
-    per_phone: float = PER_PHONE,
+    **options: Any,
 ) -> List[Heard]:
     """The phrases heard in 16 kHz mono samples, fed as a microphone would, in blocks of `block`
-    seconds; times from the recording's start."""
-    spotter = WordSpotter(
-        words, lambda word, at: None, speaking=speaking, barge_in=barge_in, per_phone=per_phone
-    )
+    seconds; times from the recording's start. `options`: WordSpotter's."""
+    spotter = WordSpotter(words, lambda word, at: None, speaking=speaking, barge_in=barge_in, **options)
     step = max(1, int(block * RATE))
     for i in range(0, len(samples), step):
         piece = samples[i : i + step]

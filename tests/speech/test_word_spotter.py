@@ -85,3 +85,31 @@ def test_no_sounddevice_module_is_a_one_line_error(monkeypatch):
     wanted = r"listening needs the sounddevice module: pip install"
     with pytest.raises(MicrophoneError, match=wanted), Microphone(lambda block: None):
         pass
+
+
+def test_hamas_recogniser_listens_where_it_runs_and_pocketsphinx_alone_elsewhere(tmp_path):
+    from baxterface_cli.speech import phoneme_recogniser
+
+    samples = with_quiet(said(tmp_path, "look at that robot over there"), before=1.0)
+    spotter = ws.WordSpotter(["robot"], lambda word, at: None)
+    assert spotter.method == ("ctc" if phoneme_recogniser.available() else "keyphrase")
+    for method in ("ctc",) * phoneme_recogniser.available() + ("keyphrase",):
+        heard = ws.spot_samples(samples, ["robot"], method=method)
+        assert [h.word for h in heard] == ["robot"], method
+        assert 1.3 < heard[0].at < len(samples) / ws.RATE - 0.3
+
+
+def test_the_recogniser_tells_a_phrase_once_though_it_looks_at_it_many_times(tmp_path):
+    pytest.importorskip("hama")
+    # each "robot" is in several overlapping windows
+    samples = with_quiet(said(tmp_path, "a robot smiles at another robot."), before=1.0)
+    heard = ws.spot_samples(samples, ["robot"], method="ctc")
+    assert [h.word for h in heard] == ["robot", "robot"]
+    assert heard[0].at < heard[1].start
+
+
+def test_a_phrase_unsaid_is_not_heard_in_silence_or_other_words(tmp_path):
+    pytest.importorskip("hama")
+    samples = with_quiet(said(tmp_path, "the weather is lovely this morning"), before=1.0)
+    silence = np.zeros(3 * ws.RATE, np.int16)
+    assert ws.spot_samples(np.concatenate([samples, silence]), ["robot"], method="ctc") == []
