@@ -35,7 +35,8 @@ def test_wheel_installs_into_a_fresh_venv_and_runs_from_elsewhere(tmp_path):
     for page in ("screen.html", "screen.js", "screen.css"):  # the screen's page
         assert f"baxterface_cli/screen/static/{page}" in names
     assert "baxterface_cli/studio/panel.json" in names
-    assert not [n for n in names if "/studio/editor_recipe/" in n]  # the editor's build recipe stays in the sdist
+    # The editor's build recipe stays in the sdist.
+    assert not [n for n in names if "/studio/editor_recipe/" in n]
 
     env_dir = tmp_path / "venv"
     venv.create(env_dir, with_pip=False)  # this pip installs into it: no pip of its own to set up

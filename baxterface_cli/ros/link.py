@@ -64,6 +64,14 @@ class Publisher:
         """How many subscribers are connected now."""
         raise NotImplementedError
 
+    def wait_for_listener(self, most: float, least: float = 0.5) -> None:
+        """Until anything subscribes (the screen, for a stream's first frames), at least `least`
+        seconds and at most `most`: ROS 2 may take seconds to discover a new node."""
+        start = time.monotonic()
+        time.sleep(least)
+        while self.listeners() == 0 and time.monotonic() < start + most:
+            time.sleep(0.02)
+
     def wait_delivered(self, timeout: float) -> bool:
         """Wait until what was published has reached every subscriber (ROS 1: it has on return)."""
         return True

@@ -61,7 +61,7 @@ def stream_live(
                 loop.intake.submit(msg.data)
 
         link.subscribe(CHATTER, "std_msgs/String", heard, queue=100)
-        _wait_for_screen(loop, CONNECT if version == 2 else 0.5)
+        loop.image_pub.wait_for_listener(CONNECT if version == 2 else 0.5)
         start = time.monotonic()
         taken = loop.intake.take(script)  # the worker starts it, as a command that takes over
 
@@ -83,11 +83,3 @@ def stream_live(
         finally:
             log.close()
     return ended - start
-
-
-def _wait_for_screen(loop: FaceLoop, most: float) -> None:
-    """Until the screen (or anything) subscribes, at least half a second and at most `most`."""
-    start = time.monotonic()
-    time.sleep(0.5)
-    while loop.image_pub.listeners() == 0 and time.monotonic() < start + most:
-        time.sleep(0.02)

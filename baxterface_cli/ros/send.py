@@ -81,14 +81,6 @@ class _RosScreen:
     def alive(self) -> bool:
         return self.link.ok()
 
-    def wait_for_listener(self, most: float) -> None:
-        """Until the screen (or anything) subscribes, at least half a second and at most `most`:
-        ROS 2 may take seconds to discover a new node."""
-        start = time.monotonic()
-        time.sleep(0.5)
-        while self.publisher.listeners() == 0 and time.monotonic() < start + most:
-            time.sleep(0.02)
-
 
 def stream(
     animation: Animation,
@@ -112,7 +104,8 @@ def stream(
             audio or default_audio(version), link, lambda t: link.log("warn", t), "--audio"
         ) as speaker:
             arm = connect_robot(link, speak=speaker.speak)
-            screen.wait_for_listener(CONNECT if version == 2 else 0.5)  # the first frames reach the screen
+            # The first frames must reach the screen.
+            screen.publisher.wait_for_listener(CONNECT if version == 2 else 0.5)
             pending: List[Cue] = list(animation.timeline.cues)
 
             def on_time(t: float) -> None:

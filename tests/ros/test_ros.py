@@ -1197,6 +1197,20 @@ def publish_until_heard(pub, message, state, test, timeout=30.0):
             assert time.monotonic() < deadline, "the node never reacted"
 
 
+def press_until_heard(pub, released, pressed, state, test, timeout=30.0):
+    """Press a button (a release, then a push: the node sees each edge once) until the node's
+    ~state passes `test` (its subscription takes a moment)."""
+    deadline = time.monotonic() + timeout
+    while True:
+        pub.publish(released)
+        time.sleep(0.05)
+        pub.publish(pressed)
+        try:
+            return report(state, test=test, timeout=0.5)
+        except AssertionError:
+            assert time.monotonic() < deadline, "the press never reached the node"
+
+
 def runs(record, line):
     return next((c["runs"] for label, c in record.get("handlers", {}).items() if label.startswith(line)), 0)
 
@@ -1219,16 +1233,7 @@ def test_handlers_sent_to_the_node_react_to_buttons_signals_and_the_sonar(ros):
                 NavigatorState(button_names=["0", "1", "2"], buttons=[b, False, False], wheel=3)
                 for b in (True, False)
             )
-            deadline = time.monotonic() + 30
-            while True:  # a press is a release then a push: the node sees each edge once
-                left.publish(down)
-                time.sleep(0.05)
-                left.publish(up)
-                try:
-                    record = report(state, test=lambda r: r["emotion"] == "happy", timeout=0.5)
-                    break
-                except AssertionError:
-                    assert time.monotonic() < deadline, "the button press never reached the node"
+            record = press_until_heard(left, down, up, state, lambda r: r["emotion"] == "happy")
             assert len(record["handlers"]) == 4 and runs(record, "line 1 'on button ok'") >= 1
 
             # A handler runs one at a time: the signal after the button's has ended.
@@ -1259,16 +1264,7 @@ def test_a_cuff_button_runs_its_handler_once_a_press(ros):
         squeeze = rospy.Publisher("/robot/digital_io/right_lower_cuff/state", DigitalIOState, queue_size=10)
         try:
             pressed, released = DigitalIOState(state=1), DigitalIOState(state=0)
-            deadline = time.monotonic() + 30
-            while True:  # a press is a release then a push: the node sees each edge once
-                dash.publish(released)
-                time.sleep(0.05)
-                dash.publish(pressed)
-                try:
-                    record = report(state, test=lambda r: r["emotion"] == "happy", timeout=0.5)
-                    break
-                except AssertionError:
-                    assert time.monotonic() < deadline, "the cuff's press never reached the node"
+            press_until_heard(dash, released, pressed, state, lambda r: r["emotion"] == "happy")
             report(state, test=lambda r: r["emotion"] == "happy" and not r["playing"])
             for _ in range(5):  # held: Baxter says so again and again, and that is no press
                 dash.publish(pressed)
