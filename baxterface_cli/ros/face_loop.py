@@ -65,7 +65,13 @@ class FaceLoop:
         self.log = log
         self.fps = settings.fps
         self.wake = threading.Event()
-        self.stopping = False  # set by SIGINT and SIGTERM
+        # A plain flag: a handler runs between any two steps of the loop, inside `wake.wait()`
+        # too, where setting an Event would wait for the lock that very wait holds. The loop
+        # looks at the flag at least once a tick. Set from here on, not from the loop's start: a
+        # SIGTERM while the node starts (its camera, speaker, ears) is a clean stop, not exit 143.
+        self.stopping = False
+        for signum in (signal.SIGINT, signal.SIGTERM):
+            signal.signal(signum, lambda *_: setattr(self, "stopping", True))
         self.intake = SessionIntake(
             session, time.monotonic, ready=self.wake.set, log=self._logged, filename=filename
         )
@@ -116,11 +122,6 @@ class FaceLoop:
         sys.setswitchinterval(SWITCH_INTERVAL)
         young, middle, _ = gc.get_threshold()
         gc.set_threshold(young, middle, FULL_COLLECTION_EVERY)
-        # A plain flag: a handler runs between any two steps of the loop, inside `wake.wait()`
-        # too, where setting an Event would wait for the lock that very wait holds. The loop
-        # looks at the flag at least once a tick.
-        for signum in (signal.SIGINT, signal.SIGTERM):
-            signal.signal(signum, lambda *_: setattr(self, "stopping", True))
         period = 1.0 / self.fps
         next_tick = now = time.monotonic()
         while not self.stopping and self.link.ok():
