@@ -9,6 +9,7 @@ from ..drawing.renderer import Renderer
 from ..engine.animation import Animation
 from ..engine.effects import Cue
 from ..play.player import Player
+from .compressed import CompressedFrames
 from .connect import open_link
 from .effect_messages import DISPLAY_TOPICS
 from .images import image_fields
@@ -70,6 +71,7 @@ class _RosScreen:
     def __init__(self, link: Link, topic: str) -> None:
         self.link = link
         self.publisher = link.publisher(topic, "sensor_msgs/Image", latched=True, queue=1)
+        self.jpeg = CompressedFrames(link, self.publisher.topic)  # for viewers elsewhere, as the node's
         self.last: Optional[bytes] = None
 
     def show(self, frame, status: str) -> None:
@@ -77,6 +79,9 @@ class _RosScreen:
         if fields["data"] != self.last:  # an unchanged frame is not sent again
             self.publisher.publish(**fields)
             self.last = fields["data"]
+            self.jpeg.offer(frame)
+        else:
+            self.jpeg.tick(time.monotonic())
 
     def alive(self) -> bool:
         return self.link.ok()
@@ -100,7 +105,7 @@ def stream(
     """
     with open_link(version, "baxterface_stream", argv, anonymous=True, leaving="streamed") as link:
         screen = _RosScreen(link, DISPLAY_TOPICS[robot])
-        with open_speaker(
+        with screen.jpeg, open_speaker(
             audio or default_audio(version), link, lambda t: link.log("warn", t), "--audio"
         ) as speaker:
             arm = connect_robot(link, speak=speaker.speak)

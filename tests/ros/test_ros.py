@@ -616,6 +616,21 @@ def test_stream_sends_frames_in_real_time(ros, robot, topic):
     screen.close()
 
 
+def test_stream_sends_jpegs_to_a_viewer_of_the_compressed_topic(ros):
+    import io
+
+    from PIL import Image as Picture
+    from sensor_msgs.msg import CompressedImage
+
+    jpegs = Topic("/robot/xdisplay/compressed", CompressedImage)
+    proc = baxterface("stream", "--no-idle", "-e", "look 40 0 in 1s", env=ros)
+    assert proc.code == 0, proc.err
+    last = jpegs.wait_for()
+    assert last.format == "bgr8; jpeg compressed bgr8"
+    assert Picture.open(io.BytesIO(last.data)).size == (1024, 600)
+    jpegs.close()
+
+
 def test_master_unreachable_names_ros_master_uri():
     env = dict(os.environ, ROS_MASTER_URI="http://127.0.0.1:9")
     proc = baxterface("send", "happy", env=env)
