@@ -31,7 +31,8 @@ def test_wheel_installs_into_a_fresh_venv_and_runs_from_elsewhere(tmp_path):
     assert "baxterface_cli/data/voices.txt" in names  # what `check` knows voices by
     for page in ("index.html", "app.js", "editor.js", "studio.css"):  # the studio, with no Node
         assert f"baxterface_cli/studio/static/{page}" in names
-    assert "baxterface_cli/web/static/sound.js" in names  # what every face page loads
+    for shared in ("sound.js", "tap.js"):  # what every face page loads
+        assert f"baxterface_cli/web/static/{shared}" in names
     for page in ("screen.html", "screen.js", "screen.css"):  # the screen's page
         assert f"baxterface_cli/screen/static/{page}" in names
     assert "baxterface_cli/studio/panel.json" in names

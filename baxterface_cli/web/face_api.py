@@ -154,7 +154,8 @@ class FaceApi:
         ]
 
     def static_files(self) -> StaticFiles:
-        """`/static`: the page's own files, then those every face page loads (static/sound.js)."""
+        """`/static`: the page's own files, then those every face page loads (static/sound.js and
+        static/tap.js)."""
         own = None if self.own_static is None else str(self.own_static)
         return StaticFiles(directory=own, packages=[(__package__, "static")], check_dir=False)
 

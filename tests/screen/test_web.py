@@ -107,7 +107,7 @@ def test_off_loopback_every_request_needs_the_token_it_was_given(screen):
     assert status == 403 and json.loads(answer)["error"].startswith("a token is needed")
     status, page = screen.request("GET", f"/?token={TOKEN}", headers={"X-Baxterface-Token": ""})
     assert status == 200 and b"/static/screen/screen.js" in page
-    assert screen.request("GET", "/static/sound.js")[0] == 200
+    assert screen.request("GET", "/static/sound.js")[0] == screen.request("GET", "/static/tap.js")[0] == 200
     assert screen.request("GET", "/static/screen/screen.css")[0] == 200
     assert screen.request("GET", "/static/app.js")[0] == 404  # the studio's editor is the studio's alone
 

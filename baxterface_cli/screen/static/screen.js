@@ -97,14 +97,7 @@
   const TOUCHES_KEPT = 20;
   function tapped(event) {
     if (event.target === tap || face.hidden || !face.width) return;
-    const box = face.getBoundingClientRect();
-    const scale = Math.min(box.width / face.width, box.height / face.height);
-    const left = box.left + (box.width - face.width * scale) / 2;
-    const top = box.top + (box.height - face.height * scale) / 2;
-    const where = {
-      x: (event.clientX - left) / (face.width * scale),
-      y: (event.clientY - top) / (face.height * scale),
-    };
+    const where = window.baxterfaceTapAt(face, face.width, face.height, event);
     const headers = { "content-type": "application/json" };
     if (token) headers["x-baxterface-token"] = token;
     fetch("/api/touch", { method: "POST", headers, body: JSON.stringify(where) })

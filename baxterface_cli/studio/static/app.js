@@ -205,7 +205,11 @@
 
   let frameUrl = null;
   const preview = $("preview");
+  // The size of the last frame shown: while the next one loads, the image may say none, and a tap
+  // then must still count.
+  let frameSize = null;
   preview.onload = () => {
+    frameSize = [preview.naturalWidth, preview.naturalHeight];
     window.__frames += 1;
     window.__lastFrameAt = performance.now();
   };
@@ -272,15 +276,8 @@
   // says where, as fractions of the frame it shows (letterboxed if the box is not the frame's
   // shape); the server finds what is drawn there.
   preview.addEventListener("pointerdown", async (event) => {
-    if (!preview.naturalWidth) return;
-    const box = preview.getBoundingClientRect();
-    const scale = Math.min(box.width / preview.naturalWidth, box.height / preview.naturalHeight);
-    const left = box.left + (box.width - preview.naturalWidth * scale) / 2;
-    const top = box.top + (box.height - preview.naturalHeight * scale) / 2;
-    const where = {
-      x: (event.clientX - left) / (preview.naturalWidth * scale),
-      y: (event.clientY - top) / (preview.naturalHeight * scale),
-    };
+    if (!frameSize) return;
+    const where = window.baxterfaceTapAt(preview, frameSize[0], frameSize[1], event);
     const { ok, data } = await api("POST", "/api/touch", where);
     $("event-result").textContent = ok
       ? `${data.event} at ${data.at} s: ran ${data.runs}, dropped ${data.dropped}, queued ${data.queued}`
