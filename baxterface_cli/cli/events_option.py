@@ -93,10 +93,10 @@ def heard_words(script: Script, path: str, command: str) -> List[Tuple[float, An
     import wave
 
     from ..extras import MissingTool
+    from ..language.checker import phrases_listened
     from ..language.syntax_tree import Event
-    from .play_live import words_of
 
-    words = words_of(script)
+    words = phrases_listened(script.body)
     if not words:
         wanted = "'on word \"hello\" { ... }'"
         raise fail(f"baxterface {command}: --hear: the script waits for no words ({wanted})", 2)

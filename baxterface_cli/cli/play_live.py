@@ -10,20 +10,9 @@ from typing import Any, List, Optional
 import typer
 
 from ..language import syntax_tree as n
+from ..language.checker import phrases_listened
 from ..language.diagnostics import ScriptError
 from .app import fail, fitted_theme, recordings_of
-
-
-def words_of(script: n.Script) -> List[str]:
-    """The phrases the script's `on word` and `wait until word` listen for, in order, once each."""
-    from ..language.checker import walk
-
-    found = []
-    for statement in walk(script.body):
-        event = getattr(statement, "event", None)
-        if isinstance(statement, (n.On, n.WaitUntil)) and event is not None and event.kind == "word":
-            found.append(event.arg)
-    return list(dict.fromkeys(found))
 
 
 def play_live(
@@ -47,7 +36,7 @@ def play_live(
     from ..play.live_player import LivePlayer
     from ..play.player import TerminalScreen, WindowScreen
 
-    words = words_of(script)
+    words = phrases_listened(script.body)
     if listen and not words:
         raise fail(
             "baxterface play: --listen: the script listens for no words ('on word \"hello\" { ... }')", 2

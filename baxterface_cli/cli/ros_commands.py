@@ -351,9 +351,9 @@ def _stream_live_checks(script, duration: Optional[float], listen: bool) -> bool
     """Does `stream` run `script` on a live session (it reacts, or hears)? Exit 2 for options that
     fit no such script."""
     from ..engine.session_run import reactive
-    from .play_live import words_of
+    from ..language.checker import phrases_listened
 
-    if listen and not words_of(script):
+    if listen and not phrases_listened(script.body):
         raise fail(
             "baxterface stream: --listen: the script listens for no words ('on word \"hello\" { ... }')", 2
         )

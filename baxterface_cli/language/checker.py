@@ -47,6 +47,16 @@ def walk(body: Sequence[Any]) -> Iterator[Any]:
             yield from walk(statement.body)
 
 
+def phrases_listened(body: Sequence[Any]) -> List[str]:
+    """The phrases the `on word` and `wait until word` in `body` listen for, in order, once each."""
+    found = [
+        s.event.arg
+        for s in walk(body)
+        if isinstance(s, (n.On, n.WaitUntil)) and s.event is not None and s.event.kind == "word"
+    ]
+    return list(dict.fromkeys(found))
+
+
 def _error(out: List[Diagnostic], node: Any, message: str) -> None:
     out.append(Diagnostic(node.pos.line, node.pos.column, message))
 

@@ -12,14 +12,14 @@ from __future__ import annotations
 
 import contextlib
 import queue
-import threading
 import time
-from typing import Any, Callable, List, Optional, Tuple
+from typing import Any, Callable, Optional, Tuple
 
 from ..core.face_state import FaceState
 from ..drawing.renderer import Renderer
 from ..drawing.touch_places import touched_place
 from ..engine.live_session import LiveSession
+from ..engine.speaking_times import SpeakingTimes
 from ..language import syntax_tree as n
 from ..speech.sound_device import SoundOut, SpeechCues
 from .player import status_line
@@ -59,10 +59,8 @@ class LivePlayer:
         self.position = 0.0
         self.note = ""
         self._state: Optional[FaceState] = None
-        self._shown_timeline: Any = None
         self._cues: Optional[SpeechCues] = None
-        self._speaking: List[Tuple[float, float]] = []  # (start, end) on the player's clock
-        self._speaking_lock = threading.Lock()
+        self._said = SpeakingTimes()  # on the player's clock
         if hasattr(screen, "on_click"):
             screen.on_click(self.touch)
 
@@ -84,8 +82,7 @@ class LivePlayer:
 
     def speaking(self, at: float) -> bool:
         """Was the face speaking at `at` (the player's clock)? For the spotter, on its thread."""
-        with self._speaking_lock:
-            return any(start <= at <= end for start, end in self._speaking)
+        return self._said.speaking(at)
 
     def _put(self, event: n.Event, at: Optional[float], source: str) -> None:
         with contextlib.suppress(queue.Full):  # a storm beyond what the frames keep up with is lost
@@ -142,14 +139,10 @@ class LivePlayer:
         """A timeline begun since the last frame: its speech is what the face says from now on."""
         face = self.session.face
         timeline, started = face.timeline, face.started
-        if timeline is self._shown_timeline:
+        if not self._said.follow(timeline, started, t):
             if self._cues is not None:
                 self._cues.tick(self.clock())
             return
-        self._shown_timeline = timeline
-        spans = [(started + s.at, started + s.at + s.utterance.duration) for s in timeline.speech]
-        with self._speaking_lock:  # what was cut short was said until now
-            self._speaking = [(a, min(b, t)) for a, b in self._speaking if a < t][-50:] + spans
         if self.sound is not None:
             self.sound.stop()
         self._cues = None

@@ -24,9 +24,10 @@ import numpy as np
 
 from ..closing import ClosedOnExit
 from ..engine.live_session import LiveSession
+from ..engine.speaking_times import SpeakingTimes
 from ..extras import MissingTool
 from ..language import syntax_tree as n
-from ..language.checker import walk
+from ..language.checker import phrases_listened
 
 BLOCK = 0.05  # seconds of sound a block, as the microphone gives them
 TRAILING_QUIET = 1.0  # seconds of silence after a recording: a phrase at its very end is decided
@@ -35,21 +36,14 @@ Log = Callable[[str, str], None]  # (level, text)
 
 
 def words_listened(session: LiveSession) -> List[str]:
-    """The phrases the session's handlers, and the waits of its runs, listen for: once each."""
-    found: List[str] = []
-    bodies: List[Any] = []
-    for handler in list(session.handlers):  # swapped whole by the session: read without its lock
-        if handler.on.event.kind == "word":
-            found.append(handler.on.event.arg)
-        bodies.append(handler.on.body)
+    """The phrases the session's handlers, and the waits of its runs, listen for: once each. A
+    run's own `on`s are not read: those installed are among the handlers (a later one may have
+    replaced them)."""
+    listening: List[Any] = [h.on for h in list(session.handlers)]  # swapped whole: no lock needed
     for run in (session.main, session.active):
         if run is not None:
-            bodies.append([s for s in run.script.body if not isinstance(s, n.On)])
-    for body in bodies:
-        for statement in walk(body):
-            if isinstance(statement, n.WaitUntil) and statement.event.kind == "word":
-                found.append(statement.event.arg)
-    return list(dict.fromkeys(found))
+            listening += [s for s in run.script.body if not isinstance(s, n.On)]
+    return phrases_listened(listening)
 
 
 class Ears(ClosedOnExit):
@@ -79,9 +73,7 @@ class Ears(ClosedOnExit):
         self._stop = threading.Event()
         self._thread: Optional[threading.Thread] = None
         self._microphone: Any = None
-        self._timeline: Any = None
-        self._spans: List[Tuple[float, float]] = []  # (start, end) of what the face said, on `clock`
-        self._spans_lock = threading.Lock()
+        self._said = SpeakingTimes()  # on `clock`
 
     # -- starting and stopping
 
@@ -217,16 +209,8 @@ class Ears(ClosedOnExit):
     def _follow_speech(self) -> None:
         """A timeline begun since the last block: its speech is what the face says from now on."""
         face = self.session.face
-        timeline, started = face.timeline, face.started
-        if timeline is self._timeline:
-            return
-        self._timeline = timeline
-        now = self.clock()
-        spans = [(started + s.at, started + s.at + s.utterance.duration) for s in timeline.speech]
-        with self._spans_lock:  # what was cut short was said until now
-            self._spans = [(a, min(b, now)) for a, b in self._spans if a < now][-50:] + spans
+        self._said.follow(face.timeline, face.started, self.clock())
 
     def speaking(self, at: float) -> bool:
         """Was the face speaking at `at`? For the spotter, on the audio's thread."""
-        with self._spans_lock:
-            return any(start <= at <= end for start, end in self._spans)
+        return self._said.speaking(at)
