@@ -25,6 +25,12 @@ HEAR_OPT = typer.Option(
     metavar="FILE.wav",
     help="A recording: the script's 'word' phrases heard in it are events at the times they end.",
 )
+LISTEN_OPT = typer.Option(
+    False, "--listen", help="Hear the script's 'on word' phrases from this machine's microphone."
+)
+BARGE_IN_OPT = typer.Option(
+    False, "--barge-in", help="With --listen: hear words while the face speaks (it may hear itself)."
+)
 DURATION_OPT = typer.Option(
     None,
     "--duration",
@@ -93,13 +99,9 @@ def heard_words(script: Script, path: str, command: str) -> List[Tuple[float, An
     import wave
 
     from ..extras import MissingTool
-    from ..language.checker import phrases_listened
     from ..language.syntax_tree import Event
 
-    words = phrases_listened(script.body)
-    if not words:
-        wanted = "'on word \"hello\" { ... }'"
-        raise fail(f"baxterface {command}: --hear: the script waits for no words ({wanted})", 2)
+    words = phrases_wanted(script, command, "--hear")
     try:
         from ..speech.word_spotter import WordError, spot_file
 
@@ -126,3 +128,14 @@ def handlers_need_events(script: Script, events: Optional[str], command: str) ->
             "give --events FILE or --listen, or play it in a window",
             2,
         )
+
+
+def phrases_wanted(script: Script, command: str, option: str) -> List[str]:
+    """The phrases `script` listens for, or an exit 2: `option` (--listen, --hear) hears only those."""
+    from ..language.checker import phrases_listened
+
+    words = phrases_listened(script.body)
+    if not words:
+        wanted = "'on word \"hello\" { ... }'"
+        raise fail(f"baxterface {command}: {option}: the script listens for no words ({wanted})", 2)
+    return words

@@ -28,9 +28,11 @@ from .app import (
     script_from,
 )
 from .events_option import (
+    BARGE_IN_OPT,
     DURATION_OPT,
     EVENTS_OPT,
     HEAR_OPT,
+    LISTEN_OPT,
     events_trace,
     handlers_need_events,
     reacting_animation,
@@ -60,12 +62,8 @@ def play(
     events: Optional[str] = EVENTS_OPT,
     hear: Optional[str] = HEAR_OPT,
     duration: Optional[float] = DURATION_OPT,
-    listen: bool = typer.Option(
-        False, "--listen", help="Hear the script's 'on word' phrases from this machine's microphone."
-    ),
-    barge_in: bool = typer.Option(
-        False, "--barge-in", help="With --listen: hear words while the face speaks (it may hear itself)."
-    ),
+    listen: bool = LISTEN_OPT,
+    barge_in: bool = BARGE_IN_OPT,
 ) -> None:
     """Play a script in real time: in a window, or in this terminal.
 

@@ -10,9 +10,9 @@ from typing import Any, List, Optional
 import typer
 
 from ..language import syntax_tree as n
-from ..language.checker import phrases_listened
 from ..language.diagnostics import ScriptError
 from .app import fail, fitted_theme, recordings_of
+from .events_option import phrases_wanted
 
 
 def play_live(
@@ -36,11 +36,7 @@ def play_live(
     from ..play.live_player import LivePlayer
     from ..play.player import TerminalScreen, WindowScreen
 
-    words = phrases_listened(script.body)
-    if listen and not words:
-        raise fail(
-            "baxterface play: --listen: the script listens for no words ('on word \"hello\" { ... }')", 2
-        )
+    words = phrases_wanted(script, "play", "--listen") if listen else []
     try:
         trace = events
         if isinstance(events, str):

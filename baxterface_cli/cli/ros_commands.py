@@ -25,7 +25,7 @@ from .app import (
     recordings_of,
     script_from,
 )
-from .events_option import DURATION_OPT
+from .events_option import BARGE_IN_OPT, DURATION_OPT, LISTEN_OPT, phrases_wanted
 
 ROS_OPT = typer.Option(
     None,
@@ -281,14 +281,8 @@ def stream(
         "on ROS 1), local (this machine's sound device; the default on ROS 2) or none.",
     ),
     duration: Optional[float] = DURATION_OPT,
-    listen: bool = typer.Option(
-        False,
-        "--listen",
-        help="Hear the script's words ('on word \"hello\"') from this machine's microphone.",
-    ),
-    barge_in: bool = typer.Option(
-        False, "--barge-in", help="With --listen: hear words while the face speaks."
-    ),
+    listen: bool = LISTEN_OPT,
+    barge_in: bool = BARGE_IN_OPT,
     ros: Optional[int] = ROS_OPT,
     ros_transport: Optional[str] = TRANSPORT_OPT,
 ) -> None:
@@ -351,12 +345,9 @@ def _stream_live_checks(script, duration: Optional[float], listen: bool) -> bool
     """Does `stream` run `script` on a live session (it reacts, or hears)? Exit 2 for options that
     fit no such script."""
     from ..engine.session_run import reactive
-    from ..language.checker import phrases_listened
 
-    if listen and not phrases_listened(script.body):
-        raise fail(
-            "baxterface stream: --listen: the script listens for no words ('on word \"hello\" { ... }')", 2
-        )
+    if listen:
+        phrases_wanted(script, "stream", "--listen")
     live = reactive(script)
     if duration is not None and not live:
         raise fail("baxterface stream: --duration is for a script that reacts (with 'on', 'forever' ...)", 2)

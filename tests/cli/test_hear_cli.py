@@ -96,5 +96,5 @@ def test_a_script_that_waits_for_no_words_is_told_so(tmp_path, said):
     run = baxterface("explain", str(tmp_path / "poke.face"), "--hear", str(path))
     assert run.code == 2
     assert run.err.strip() == (
-        "baxterface explain: --hear: the script waits for no words ('on word \"hello\" { ... }')"
+        "baxterface explain: --hear: the script listens for no words ('on word \"hello\" { ... }')"
     )
