@@ -34,7 +34,7 @@ _SECOND_WORDS = {"face": ("seen", "lost"), "person": ("near", "gone")}
 
 # Baxter's navigators and their buttons, as robot/buttons.json names them, and the wheel.
 NAVIGATORS = ("left", "right", "torso_left", "torso_right")
-BUTTONS = ("ok", "up", "down")
+BUTTONS = ("ok", "up", "down")  # in the order of NavigatorState.buttons (index 0, 1, 2)
 WHEEL = "wheel"
 # The arms' cuffs: the button with a dash, the round one, and the cuff squeezed.
 CUFFS = ("left_cuff", "right_cuff")

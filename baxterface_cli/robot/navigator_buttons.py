@@ -15,12 +15,10 @@ from pathlib import Path
 from typing import Any, Dict, List, Optional, Sequence, Type, Union
 
 from ..language.diagnostics import ScriptError
-from ..language.events import CUFF_BUTTONS, CUFFS
+from ..language.events import BUTTONS, CUFF_BUTTONS, CUFFS, NAVIGATORS
 from ..language.parser import parse
 from .event_sensors import CUFF_INPUTS
 
-NAVIGATORS = ("left", "right", "torso_left", "torso_right")
-BUTTONS = ("ok", "up", "down")  # index 0, 1, 2 in NavigatorState.buttons
 DEFAULT_MAPPING = Path(__file__).resolve().parent / "buttons.json"
 
 

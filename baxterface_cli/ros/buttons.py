@@ -7,10 +7,8 @@ from typing import Any, List
 
 from ..robot.event_sensors import CUFF_INPUTS
 from ..robot.navigator_buttons import NAVIGATORS, ButtonMap, Buttons
+from .effect_messages import CUFF_SIDES, CUFF_TOPIC, NAVIGATOR_TOPIC
 from .messages import message_class
-
-CUFF_TOPIC = "/robot/digital_io/{}_{}/state"  # baxter_core_msgs/DigitalIOState
-CUFF_SIDES = ("left", "right")
 
 
 def run_buttons(mapping: ButtonMap, argv: List[str]) -> int:
@@ -41,7 +39,7 @@ def run_buttons(mapping: ButtonMap, argv: List[str]) -> int:
 
     navigator_state = message_class("NavigatorState")
     for navigator in NAVIGATORS:
-        topic = f"/robot/navigators/{navigator}_navigator/state"
+        topic = NAVIGATOR_TOPIC.format(navigator)
         rospy.Subscriber(topic, navigator_state, pressed, navigator, queue_size=10)
     if any(key.partition(".")[0].endswith("_cuff") for key in buttons.mapping.buttons):
         digital_io = message_class("DigitalIOState")

@@ -17,6 +17,9 @@ ENABLE_TOPIC = "/robot/set_super_enable"
 SOUND_TOPIC = "/robotsound"  # ROS's sound_play listens here
 HEAD_STATE_TOPIC = "/robot/head/head_state"
 ROBOT_STATE_TOPIC = "/robot/state"
+NAVIGATOR_TOPIC = "/robot/navigators/{}_navigator/state"  # a navigator's (language/events.py names them)
+CUFF_TOPIC = "/robot/digital_io/{}_{}/state"  # an arm's side, and one of its cuff's inputs
+CUFF_SIDES = ("left", "right")
 # Where each robot's head screen takes its frames.
 DISPLAY_TOPICS = {"baxter": "/robot/xdisplay", "sawyer": "/robot/head_display"}
 

@@ -19,8 +19,10 @@ from typing import Any, Callable, List, Optional
 from ..engine.effects import Speech
 from ..engine.session_intake import SessionIntake
 from ..language import syntax_tree as n
+from ..language.events import NAVIGATORS
 from ..robot.camera_watch import CameraWatch
 from ..robot.event_sensors import CUFF_INPUTS, CuffPresses, FaceSightings, NavigatorPresses, SonarPresence
+from .effect_messages import CUFF_SIDES, CUFF_TOPIC, NAVIGATOR_TOPIC
 from .images import image_pixels
 from .link import Link
 from .node_ears import Ears
@@ -30,11 +32,7 @@ from .robot_link import WARN_EVERY, connect_robot
 SONAR_TOPIC = "/robot/sonar/head_sonar/state"
 HAND_TYPE = "baxter_core_msgs/EndpointState"
 NAVIGATOR_TYPE = "baxter_core_msgs/NavigatorState"
-NAVIGATOR_TOPIC = "/robot/navigators/{}_navigator/state"
-NAVIGATORS = ("left", "right", "torso_left", "torso_right")
 CUFF_TYPE = "baxter_core_msgs/DigitalIOState"
-CUFF_TOPIC = "/robot/digital_io/{}_{}/state"
-CUFF_SIDES = ("left", "right")
 
 
 class RobotSenses:
