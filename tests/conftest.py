@@ -34,6 +34,9 @@ if "BAXTERFACE_TEST_CACHE" not in os.environ:
     os.environ["BAXTERFACE_TEST_CACHE"] = tempfile.mkdtemp(prefix="baxterface-test-cache-")
     atexit.register(shutil.rmtree, os.environ["BAXTERFACE_TEST_CACHE"], True)
 os.environ["XDG_CACHE_HOME"] = os.environ["BAXTERFACE_TEST_CACHE"]
+# A program the tests start that dies of a signal (a middleware crash at exit, say) prints where
+# every thread was, so a failure seen once in CI says where it happened.
+os.environ.setdefault("PYTHONFAULTHANDLER", "1")
 
 
 def pytest_collection_modifyitems(config, items):

@@ -105,6 +105,7 @@ class RclpyLink(Link):
 
         self.rclpy = rclpy
         self.context = Context()
+        self.closed = False
         if anonymous:  # ROS 2 has no anonymous names: a unique suffix, as ROS 1's
             name = f"{name}_{os.getpid()}_{uuid.uuid4().hex[:8]}"
         # rcl reads the discovery range at init, Fast DDS its profile when the node's participant is
@@ -135,7 +136,7 @@ class RclpyLink(Link):
         except ExternalShutdownException:
             pass
         except Exception as e:  # the context went while a wait was under way: the link is closing
-            if self.context.ok():
+            if self.ok():
                 self.logger.error(f"the ROS 2 executor stopped: {e}")
 
     def resolve(self, topic: str) -> str:
@@ -195,7 +196,7 @@ class RclpyLink(Link):
             self.logger.error(text)
 
     def ok(self) -> bool:
-        return self.context.ok()
+        return not self.closed and self.context.ok()
 
     def spin(self) -> None:
         # Sleeps, not joins: a Ctrl-C that breaks into Thread.join leaves the process to abort at exit.
@@ -203,12 +204,18 @@ class RclpyLink(Link):
             time.sleep(0.1)
 
     def close(self, reason: str = "done") -> None:
-        if not self.context.ok():
+        if not self.ok():
             return
+        self.closed = True
+        # The spin thread ends before the node goes: a node destroyed while a wait holds its
+        # entities can crash the process (rclpy #663), as `send` did now and then at its exit.
         self.executor.shutdown(timeout_sec=1.0)
+        self.thread.join(timeout=5.0)
         self.node.destroy_node()
         self.context.try_shutdown()
-        self.thread.join(timeout=2.0)
+        # The middleware's participant goes now, not in the interpreter's last collection, when
+        # Fast DDS's own threads may already be gone.
+        self.context.destroy()
 
 
 def _ros2_name(topic: str) -> str:
