@@ -954,6 +954,46 @@ def test_a_button_press_sends_exactly_one_command(ros):
         chatter.close()
 
 
+def test_buttons_sends_a_mapped_cuff_press_once_and_a_list_in_turn(ros, tmp_path):
+    import json
+
+    import rospy
+    from std_msgs.msg import String
+
+    from baxterface_cli.ros.messages import message_class
+
+    DigitalIOState = message_class("DigitalIOState")
+    mapping = tmp_path / "cuffs.json"
+    buttons = {"left_cuff.dash": ["happy", "look left in 0.3s"], "right_cuff.circle": "sleep"}
+    mapping.write_text(json.dumps({"buttons": buttons}))
+    chatter = Topic("/display_chatter", String)
+    command = [sys.executable, "-m", "baxterface_cli", "buttons", "--mapping", str(mapping)]
+    proc = subprocess.Popen(command, cwd=str(ROOT), env=ros)
+    dash = rospy.Publisher("/robot/digital_io/left_upper_button/state", DigitalIOState, queue_size=10)
+    circle = rospy.Publisher("/robot/digital_io/right_lower_button/state", DigitalIOState, queue_size=10)
+    try:
+        deadline = time.monotonic() + 30
+        while dash.get_num_connections() == 0 or circle.get_num_connections() == 0:
+            assert time.monotonic() < deadline and proc.poll() is None
+            time.sleep(0.05)
+        # Pressed and held (Baxter says so again and again), released; pressed again, released.
+        for state in [0, 1, 1, 1, 1, 0, 1, 0]:
+            dash.publish(DigitalIOState(state=state))
+            time.sleep(0.1)
+        chatter.wait_for(lambda m: m.data == "look left in 0.3s")
+        for state in [1, 0]:  # then the other cuff: sent after any repeat of the first
+            circle.publish(DigitalIOState(state=state))
+            time.sleep(0.1)
+        chatter.wait_for(lambda m: m.data == "sleep")
+        assert [m.data for _, m in chatter.messages] == ["happy", "look left in 0.3s", "sleep"]
+    finally:
+        proc.send_signal(signal.SIGINT)
+        proc.wait(timeout=20)
+        dash.unregister()
+        circle.unregister()
+        chatter.close()
+
+
 @pytest.mark.parametrize(
     "arg, message",
     [
