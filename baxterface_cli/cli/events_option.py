@@ -89,7 +89,7 @@ def events_trace(script: Script, events: Optional[str], hear: Optional[str], com
         raise fail(e.render()) from None
     if hear is None:
         return trace
-    heard = [Posted(at, event, 0) for at, event in heard_words(script, hear, command)]
+    heard = [Posted(at, event, 0, f"heard in {hear}") for at, event in heard_words(script, hear, command)]
     posted = sorted(list(trace.events if trace is not None else ()) + heard, key=lambda p: p.at)
     return Trace(tuple(posted), trace.filename if trace is not None else hear)
 

@@ -75,7 +75,7 @@ def run_over(
     for posted in events:
         if posted.at > limit:
             break
-        session.post(posted.event, posted.at, f"{trace.filename}:{posted.line}")  # type: ignore[union-attr]
+        session.post(posted.event, posted.at, trace.source(posted))  # type: ignore[union-attr]
     end = settle(session, script, trace.end if trace is not None else 0.0, bool(events), duration)
     # A script that never played a step (handlers, and no event for them): the face it started with.
     segments = session.segments or [(0.0, session.face.timeline)]

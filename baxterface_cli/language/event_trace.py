@@ -51,11 +51,16 @@ class Posted(NamedTuple):
     at: float
     event: n.Event
     line: int
+    origin: str = ""  # where it came from when that is not a line of the file: "heard in x.wav"
 
 
 class Trace(NamedTuple):
     events: Tuple[Posted, ...]
     filename: str
+
+    def source(self, posted: Posted) -> str:
+        """Where `posted` came from, as the session's log names it: `greeter.events:4`."""
+        return posted.origin or f"{self.filename}:{posted.line}"
 
     @property
     def end(self) -> float:

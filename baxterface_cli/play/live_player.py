@@ -47,7 +47,7 @@ class LivePlayer:
         self.screen = screen
         self.fps = fps
         self.trace = list(trace.events) if trace is not None else []
-        self.trace_name = trace.filename if trace is not None else ""
+        self.source = trace.source if trace is not None else (lambda posted: "")
         self.duration = duration
         self.clock = clock
         self.sleep = sleep
@@ -116,7 +116,7 @@ class LivePlayer:
     def _post_due(self, t: float) -> None:
         while self.trace and self.trace[0].at <= t:
             posted = self.trace.pop(0)
-            self.session.post(posted.event, posted.at, f"{self.trace_name}:{posted.line}")
+            self.session.post(posted.event, posted.at, self.source(posted))
         while True:
             try:
                 event, at, source = self.inbox.get_nowait()

@@ -55,7 +55,9 @@ def test_heard_words_merge_with_an_events_file(tmp_path, said):
     )
     assert run.code == 0, run.err
     lines = [line for line in run.out.splitlines() if "event" in line]
-    assert "signal poke" in lines[0] and 'word "robot"' in lines[1], run.out
+    # Each says where it came from: the events file's line, the recording it was heard in.
+    assert lines[0].endswith(f"event signal poke ({tmp_path / 'events.txt'}:1)"), run.out
+    assert lines[1].endswith(f'event word "robot" (heard in {path})'), run.out
 
 
 def test_render_plays_the_handler_after_the_word_it_heard(tmp_path, said):
