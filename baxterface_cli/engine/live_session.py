@@ -27,7 +27,7 @@ import itertools
 import random
 import threading
 from collections import deque
-from typing import TYPE_CHECKING, Any, Deque, Dict, List, NamedTuple, Optional, Tuple
+from typing import TYPE_CHECKING, Any, Deque, Dict, List, Optional, Tuple
 
 from ..core.face_state import FaceState
 from ..language import syntax_tree as n
@@ -39,6 +39,7 @@ from .compiler import Carry, compile_script
 from .effects import Cue
 from .live_face import LiveFace
 from .session_program import Await, Play, Raise, Runner
+from .session_records import Handler, Logged, Run
 from .timeline import Timeline
 
 if TYPE_CHECKING:
@@ -47,41 +48,7 @@ if TYPE_CHECKING:
 MAX_QUEUE = 32  # events a `queue` handler holds; more are dropped, and counted
 MAX_LOG = 10_000  # lines of the log a live session keeps
 MAX_STEPS_AT_ONCE = 10_000  # steps one run may take without time passing (signals, zero-length moves)
-
-
-class Logged(NamedTuple):
-    at: float
-    text: str
-
-
-class Handler:
-    """An `on` installed in the session, with its counts."""
-
-    def __init__(self, on: n.On, script: n.Script) -> None:
-        self.on = on
-        self.script = script
-        self.label = f"line {on.pos.line} 'on {in_words(on.event)}'"
-        self.runs = 0
-        self.dropped = 0
-        self.queued = 0
-        self.last_start: Optional[float] = None
-
-
-class _Run:
-    """The main script, or one run of a handler, as the session drives it."""
-
-    def __init__(
-        self, runner: Runner, script: n.Script, label: str, handler: Optional[Handler] = None
-    ) -> None:
-        self.runner = runner
-        self.script = script
-        self.label = label
-        self.handler = handler
-        self.playing: Optional[Tuple[Play, float, float]] = None  # (step, start, end)
-        self.exiting = False
-        self.waiting: Optional[Tuple[n.WaitUntil, float]] = None  # (statement, since)
-        self.done = False
-        self.carry = True  # the next step lets what was begun finish (False after an interrupt)
+MAX_STARTS_AT_ONCE = 100  # handler runs started without time passing: `on signal a { signal a }`
 
 
 class LiveSession:
@@ -107,8 +74,8 @@ class LiveSession:
         self.crossfade = crossfade
         self.clock = now
         self.handlers: List[Handler] = []
-        self.main: Optional[_Run] = None
-        self.active: Optional[_Run] = None
+        self.main: Optional[Run] = None
+        self.active: Optional[Run] = None
         self.pending: Deque[Tuple[Handler, n.Event]] = deque()
         self.log: Deque[Logged] = deque(maxlen=log_lines)
         self.logged = 0  # lines ever logged: the log keeps the last `log_lines`
@@ -119,6 +86,7 @@ class LiveSession:
         self.last_event = now
         self._idle_fired: set = set()
         self._every: Dict[float, float] = {}
+        self._burst = (now, 0)  # (an instant, the handler runs started at it)
         if script is not None:
             self.run(script, now)
 
@@ -142,7 +110,13 @@ class LiveSession:
         at = self.clock
         for on in (s for s in script.body if isinstance(s, n.On)):
             key = (on.event.kind, on.event.arg, on.event.seconds)
-            kept = [h for h in self.handlers if (h.on.event.kind, h.on.event.arg, h.on.event.seconds) != key]
+            # Sent later, a handler replaces the one for its event; in one script, both are kept
+            # (the first starts, the other follows its policy), as `check` says.
+            kept = [
+                h
+                for h in self.handlers
+                if h.script is script or (h.on.event.kind, h.on.event.arg, h.on.event.seconds) != key
+            ]
             if len(kept) < len(self.handlers):
                 self._note(at, f"{in_words(on.event)}: its handler replaced")
             self.handlers = kept + [Handler(on, script)]
@@ -160,7 +134,7 @@ class LiveSession:
             self.active = None
         self.pending.clear()
         self._pause(self.main, at)
-        self.main = _Run(Runner(script.body, script.definitions, self.rng), script, "main script")
+        self.main = Run(Runner(script.body, script.definitions, self.rng), script, "main script")
         self._go(self.main, at)
 
     def post(self, event: n.Event, at: float, source: str = "") -> None:
@@ -299,7 +273,8 @@ class LiveSession:
             self._start(handler, at, cut=on.policy == "interrupt")
         elif on.policy == "drop":
             handler.dropped += 1
-            self._note(at, f"dropped {in_words(event)}: {self.active.label} is running")
+            whose = "" if self.active.handler is handler else f" for {handler.label}"
+            self._note(at, f"dropped {in_words(event)}{whose}: {self.active.label} is running")
         elif on.policy == "queue":
             if sum(1 for h, _ in self.pending if h is handler) >= MAX_QUEUE:
                 handler.dropped += 1
@@ -310,51 +285,66 @@ class LiveSession:
                 self._note(at, f"queued {in_words(event)} for {handler.label}")
         else:
             self._note(at, f"{self.active.label} interrupted")
-            self._cut(self.active, at)
+            self._pause(self.active, at)  # it may be between steps: raising this very signal
             self.active = None
             self._start(handler, at, cut=True)
 
-    def _start(self, handler: Handler, at: float, cut: bool) -> None:
+    def _start(self, handler: Handler, at: float, cut: bool) -> bool:
+        """Start a run of `handler`; False if handlers have started one another too often at `at`,
+        a loop that takes no time (each start is a level deeper in this call)."""
+        started = self._burst[1] + 1 if self._burst[0] == at else 1
+        self._burst = (at, started)
+        if started > MAX_STARTS_AT_ONCE:
+            handler.dropped += 1
+            self.pending.clear()
+            if started == MAX_STARTS_AT_ONCE + 1:
+                self._note(
+                    at,
+                    f"{handler.label} not run: {MAX_STARTS_AT_ONCE} handler runs began "
+                    "without time passing (handlers that raise each other's signals?)",
+                )
+            return False
         handler.runs += 1
         handler.last_start = at
         if self.main is not None:
             self._pause(self.main, at)
         script = handler.script
-        run = _Run(Runner(handler.on.body, script.definitions, self.rng), script, handler.label, handler)
+        run = Run(Runner(handler.on.body, script.definitions, self.rng), script, handler.label, handler)
         run.carry = not cut
         self.active = run
         self._note(at, f"{handler.label} runs")
         self._go(run, at)
+        return True
 
     # -- runs
 
-    def _owner(self) -> Optional[_Run]:
+    def _owner(self) -> Optional[Run]:
         return self.active if self.active is not None else self.main
 
     @staticmethod
-    def _ready(run: _Run) -> bool:
+    def _ready(run: Run) -> bool:
         return not run.done and run.playing is None and run.waiting is None
 
-    def _pause(self, run: Optional[_Run], at: float) -> None:
+    def _pause(self, run: Optional[Run], at: float) -> None:
         if run is not None and run.playing is not None:
             self._cut(run, at)
 
-    def _cut(self, run: _Run, at: float) -> None:
+    def _cut(self, run: Run, at: float) -> None:
         play, start, _ = run.playing  # type: ignore[misc]
         run.runner.cut(play, at - start)
         run.playing = None
 
-    def _woken(self, run: _Run, at: float, go: bool = True) -> None:
+    def _woken(self, run: Run, at: float, go: bool = True) -> None:
         run.waiting = None
         if go and run is self._owner():
             self._go(run, at)
 
-    def _timed_out(self, run: _Run) -> None:
+    def _timed_out(self, run: Run) -> None:
         wait, _ = run.waiting  # type: ignore[misc]
         self._note(self.clock, f"{run.label}: 'wait until {in_words(wait.event)}' timed out")
         self._woken(run, self.clock)
 
-    def _played(self, run: _Run) -> None:
+    def _played(self, run: Run) -> None:
         run.playing = None
         run.carry = True
         if run.exiting:
@@ -362,7 +352,7 @@ class LiveSession:
         else:
             self._go(run, self.clock)
 
-    def _go(self, run: _Run, at: float) -> None:
+    def _go(self, run: Run, at: float) -> None:
         """Take `run`'s steps from `at` until one takes time, waits, or hands the face on."""
         for _ in range(MAX_STEPS_AT_ONCE):
             if run is not self._owner() or not self._ready(run):
@@ -382,7 +372,7 @@ class LiveSession:
         self._note(at, f"{run.label} stopped: it took {MAX_STEPS_AT_ONCE} steps without time passing")
         self._finished(run, at)
 
-    def _finished(self, run: _Run, at: float) -> None:
+    def _finished(self, run: Run, at: float) -> None:
         run.done = True
         self._note(at, f"{run.label} ends")
         if run is not self.active:
@@ -390,12 +380,13 @@ class LiveSession:
         self.active = None
         if self.pending:
             handler, _ = self.pending.popleft()
-            self._start(handler, at, cut=False)
-        elif self.main is not None and not self.main.done:
+            if self._start(handler, at, cut=False):
+                return
+        if self.main is not None and not self.main.done and self.active is None:
             self._note(at, "main script goes on")
             self._go(self.main, at)
 
-    def _play(self, run: _Run, step: Play, at: float) -> None:
+    def _play(self, run: Run, step: Play, at: float) -> None:
         playing, started = self.face.timeline, self.face.started
         self.cues.extend(self.face.due(at))
         into = at - started

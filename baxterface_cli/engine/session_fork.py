@@ -22,13 +22,15 @@ from typing import Dict, Optional
 
 from .effects import StatusFold
 from .live_face import LiveFace
-from .live_session import Handler, LiveSession, _Run
+from .live_session import LiveSession
 from .session_program import Runner, _Frame
+from .session_records import Handler, Run
 
 # Every attribute a session has, so that one added to it later is not silently left shared.
 _SESSION = {
     "lock", "face", "rng", "recordings", "crossfade", "clock", "handlers", "main", "active", "pending",
     "log", "logged", "segments", "cues", "exited", "ignored", "last_event", "_idle_fired", "_every",
+    "_burst",
 }  # fmt: skip
 _FACE = {"rng", "recordings", "idle_on", "max_queue", "queue", "_robot", "pending", "_playing"}
 _RUN = {"runner", "script", "label", "handler", "playing", "exiting", "waiting", "done", "carry"}
@@ -93,7 +95,7 @@ def _face(face: LiveFace) -> LiveFace:
     return twin
 
 
-def _run(run: Optional[_Run], handler, rng: random.Random) -> Optional[_Run]:
+def _run(run: Optional[Run], handler, rng: random.Random) -> Optional[Run]:
     if run is None:
         return None
     _same_fields(run, _RUN)

@@ -18,8 +18,9 @@ from ..language import syntax_tree as n
 from ..language.checker import walk
 from ..language.event_trace import Trace
 from ..language.script_length import in_words
-from .live_session import LiveSession, Logged
+from .live_session import LiveSession
 from .session_program import first_reacting
+from .session_records import Logged
 from .stitched import Stitched
 
 if TYPE_CHECKING:

@@ -100,3 +100,51 @@ def test_the_live_ends_refuse_a_script_that_reacts_in_one_line():
         "'forever' or 'one of' yet"
     )
     face.command("blink", 1.0)  # and goes on taking what it can run
+
+
+def reactions(tmp_path, script: str, events: str):
+    """What `explain --events` says the handlers did, each line without its time."""
+    (tmp_path / "r.face").write_text(script)
+    (tmp_path / "r.events").write_text(events)
+    run = baxterface("explain", "r.face", "--events", "r.events", cwd=tmp_path)
+    assert run.code == 0 and "internal error" not in run.err, run.err
+    return [line.split(None, 3)[-1] for line in run.out.splitlines() if " react " in line]
+
+
+def test_an_interrupt_raised_by_a_running_handler_stops_it_and_runs(tmp_path):
+    script = "on touch { happy; signal poke; sad }\non signal poke interrupt { bored }\n"
+    said = reactions(tmp_path, script, "1 touch\n")
+    assert said[0] == "main script ends"  # it has only handlers
+    assert said[1:7] == [
+        "event touch (r.events:1)",
+        "line 1 'on touch' runs",
+        "event signal poke (line 1)",
+        "line 1 'on touch' interrupted",
+        "line 2 'on signal poke' runs",
+        "line 2 'on signal poke' ends",
+    ]
+
+
+@pytest.mark.parametrize("policy", ["queue", "interrupt"])
+def test_handlers_that_raise_their_own_signal_in_no_time_are_stopped_and_the_script_goes_on(tmp_path, policy):
+    said = reactions(tmp_path, f"on signal poke {policy} {{ signal poke }}\nsignal poke\nhappy\n", "")
+    stopped = [line for line in said if "not run" in line]
+    assert stopped == [
+        "line 1 'on signal poke' not run: 100 handler runs began without time passing "
+        "(handlers that raise each other's signals?)"
+    ]
+    assert said[-1] == "main script ends"  # `happy`, after the loop was stopped
+
+
+def test_two_handlers_of_one_event_in_a_script_are_both_kept_the_second_by_its_policy(tmp_path):
+    script = "on touch { happy }\non touch queue { sad }\non touch { bored }\nwait 3s\n"
+    said = reactions(tmp_path, script, "1 touch\n")
+    assert "its handler replaced" not in " ".join(said)
+    assert said[:5] == [
+        "event touch (r.events:1)",
+        "line 1 'on touch' runs",
+        "queued touch for line 2 'on touch'",
+        "dropped touch for line 3 'on touch': line 1 'on touch' is running",
+        "line 1 'on touch' ends",
+    ]
+    assert said[5] == "line 2 'on touch' runs"
