@@ -52,6 +52,13 @@ Seconds = Callable[[Token, str], float]
 Decode = Callable[[Token], Optional[str]]
 
 _PHRASE = re.compile(r"[a-z']+(?: [a-z']+)*")
+_LEADING_NUMBER = re.compile(r"[-+]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)")
+
+
+def written_zero(token: Token) -> bool:
+    """Is the number written at the front of `token` zero (`0s`, `0.0`), not one that was bad?"""
+    number = _LEADING_NUMBER.match(str(token))
+    return number is not None and float(number.group()) == 0
 
 
 def read_event(
@@ -95,9 +102,11 @@ def read_event(
         error(rest[0] if rest else first, f"'{word}' needs a time: '{word} 5s'")
         return None, []
     period = seconds(rest[0], f"an '{word}' time")
-    shortest = SHORTEST_EVERY if word == "every" else 0.0
-    if period <= shortest:
-        error(rest[0], f"an '{word}' time must be more than {shortest:g} s, not {rest[0]}")
+    if period <= 0 and not written_zero(rest[0]):  # its number was bad, and said so
+        return None, []
+    if period <= 0 or (word == "every" and period < SHORTEST_EVERY):
+        least = f"{SHORTEST_EVERY:g} s at least" if word == "every" else "more than 0 s"
+        error(rest[0], f"an '{word}' time must be {least}, not {rest[0]}")
         return None, []
     return n.Event(word, seconds=period, pos=pos), rest[1:]
 

@@ -154,7 +154,9 @@ def _handler(
     handler: n.On, measure: Measure, seen: Dict[Tuple[str, str, float], int], out: List[Diagnostic]
 ) -> None:
     key = (handler.event.kind, handler.event.arg, handler.event.seconds)
-    if key in seen:
+    if key == ("signal", "?", 0.0):  # an event already reported as unknown: no second word on it
+        pass
+    elif key in seen:
         message = (
             f"'{in_words(handler.event)}' already has a handler, on line {seen[key]}: "
             "this one runs only when that one is not running, by its policy"

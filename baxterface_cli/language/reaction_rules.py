@@ -13,7 +13,7 @@ from lark import Token
 
 from . import syntax_tree as n
 from .diagnostics import one_of
-from .events import PLACES, POLICIES, in_words, option_words, read_event
+from .events import PLACES, POLICIES, in_words, option_words, read_event, written_zero
 
 
 class ReactionRules:
@@ -84,7 +84,7 @@ class ReactionRules:
                 self._error(token, f"'{word}' needs a time: '{word} 5s'")
                 return found
             seconds = self._seconds(tokens[i + 1], f"a {word}")
-            if option == "timeout" and seconds <= 0:
+            if option == "timeout" and seconds == 0 and written_zero(tokens[i + 1]):  # not a bad number
                 self._error(tokens[i + 1], "a timeout must be more than 0 s")
             found[option] = seconds
             i += 2

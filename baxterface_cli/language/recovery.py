@@ -17,6 +17,7 @@ from lark.lexer import PatternStr
 from ..core.face_constants import LIMITS
 from .builder import ThreadParser, spaced_unit, thread_parser
 from .diagnostics import Diagnostic, did_you_mean
+from .events import POLICIES
 from .source import diagnostic_at
 
 # -- unclosed blocks ------------------------------------------------------
@@ -206,7 +207,10 @@ def _blank_statement(text: str, e: UnexpectedInput, stands_alone: Callable[[str]
     filler = "".join(c if c in "\r\n" else " " for c in region)
     # A placeholder statement keeps a block that held only this one from
     # being reported as empty as well.
-    if kept is None and len(filler) >= 5 and "\n" not in filler[:5]:
+    # Never after a block's '}' on its line: a statement cannot stand there either, and the
+    # placeholder would be the next error, again and again.
+    after_block = text[:start].rstrip(" \t").endswith("}")
+    if kept is None and not after_block and len(filler) >= 5 and "\n" not in filler[:5]:
         filler = "blink" + filler[5:]
     return text[:start] + filler + text[end:]
 
@@ -295,7 +299,12 @@ def _syntax_diagnostic(e: UnexpectedInput, text: str) -> Diagnostic:
             found = f"'{token.value}'"
         message = f"unexpected {found}; expected {expected}"
         spaced = spaced_unit(text, token.start_pos, str(token)) if token.type == "NAME" else ""
-        if spaced:
+        if _policy_after_block(text, token):
+            option = f"{token} 5s" if str(token).lower() == "cooldown" else str(token)
+            message = (
+                f"unexpected {found}: a handler's policy goes before its block: on EVENT {option} {{ ... }}"
+            )
+        elif spaced:
             message = f"unexpected {found} {spaced}"
         elif token.type not in ("$END", "_NL") and keywords:
             message += did_you_mean(str(token.value), keywords)
@@ -304,6 +313,12 @@ def _syntax_diagnostic(e: UnexpectedInput, text: str) -> Diagnostic:
     if not isinstance(line, int) or line < 1:
         line, column = _end_of(text)
     return Diagnostic(line, column, message, kind="syntax")
+
+
+def _policy_after_block(text: str, token: Any) -> bool:
+    """`on touch { happy } queue`: a policy, or a cooldown, written after the block it is for."""
+    word = str(token.value).lower()
+    return word in POLICIES + ("cooldown",) and text[: token.start_pos].rstrip(" \t").endswith("}")
 
 
 def _closed_string(string: str) -> bool:

@@ -112,7 +112,14 @@ def test_wait_until_signal_forever_and_one_of():
         ("on face seen drop queue { blink }", "t.face:1:19: error: 'on face seen' has its policy already"),
         ("on face seen cooldown { blink }", "t.face:1:14: error: 'cooldown' needs a time: 'cooldown 5s'"),
         ("on signal { blink }", "t.face:1:4: error: 'signal' needs a name: 'signal poke'"),
-        ("on every 0s { blink }", "t.face:1:10: error: an 'every' time must be more than 0.1 s, not 0s"),
+        ("on every 0s { blink }", "t.face:1:10: error: an 'every' time must be 0.1 s at least, not 0s"),
+        ("on every 0.05s { blink }", "t.face:1:10: error: an 'every' time must be 0.1 s at least, not 0.05s"),
+        ("on idle 0s { blink }", "t.face:1:9: error: an 'idle' time must be more than 0 s, not 0s"),
+        (
+            "on idle 1e9s { blink }",
+            "t.face:1:10: error: unknown unit 'e9s' for an 'idle' time; an 'idle' time takes 's' or 'ms'",
+        ),
+        ("wait until face seen timeout -1s", "t.face:1:30: error: a timeout cannot be negative"),
         (
             'on word "hello!" { blink }',
             "t.face:1:9: error: 'word' spots a few words of letters (8 at most, 60 letters), not \"hello!\"",
@@ -218,4 +225,31 @@ def test_an_events_file_takes_the_cuffs_and_names_a_wrong_one_where_it_is():
         parse_trace("1 button left_cuff circel\n", "c.events")
     assert [d.head("c.events") for d in caught.value.diagnostics] == [
         "c.events:1:20: error: unknown button 'circel' on 'left_cuff'; did you mean 'circle'?"
+    ]
+
+
+@pytest.mark.parametrize(
+    "written, message",
+    [
+        ("queue", "unexpected 'queue': a handler's policy goes before its block: on EVENT queue { ... }"),
+        (
+            "cooldown 2s",
+            "unexpected 'cooldown': a handler's policy goes before its block: on EVENT cooldown 5s { ... }",
+        ),
+    ],
+)
+def test_a_policy_after_the_block_is_one_error_saying_where_it_goes(written, message):
+    assert errors(f"on touch {{ happy }} {written}\n") == [f"t.face:1:20: error: {message}"]
+
+
+def test_a_word_after_a_blocks_brace_is_one_error_not_a_made_up_one():
+    assert errors("repeat 2 { blink } zzzz\nhappy\n") == [
+        "t.face:1:20: error: unexpected 'zzzz'; expected ';', '}' or a new line"
+    ]
+
+
+def test_two_unknown_events_are_two_errors_and_no_warning_of_one_handled_twice():
+    assert errors("on tuch { happy }\non fase seen { sad }\n") == [
+        "t.face:1:4: error: unknown event 'tuch'; did you mean 'touch'?",
+        "t.face:2:4: error: unknown event 'fase'; did you mean 'face'?",
     ]
