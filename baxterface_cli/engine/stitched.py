@@ -130,7 +130,8 @@ def _piece(start: float, timeline: Timeline, stop: float) -> Piece:
             for c in timeline.cues
             if start + c.at <= stop
         ],
-        [c._replace(at=start + c.at) for c in timeline.parts if start + c.at < stop],
+        # A change at the very end of a step shows: the next step starts from the face it made.
+        [c._replace(at=start + c.at) for c in timeline.parts if start + c.at <= stop],
         spans,
         [cut_short(said, start, stop) for said in timeline.speech if start + said.at < stop],
     )

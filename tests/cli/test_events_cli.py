@@ -148,3 +148,17 @@ def test_two_handlers_of_one_event_in_a_script_are_both_kept_the_second_by_its_p
         "line 1 'on touch' ends",
     ]
     assert said[5] == "line 2 'on touch' runs"
+
+
+def test_explain_with_events_shows_the_face_each_step_leaves_as_without(tmp_path):
+    (tmp_path / "plain.face").write_text("wake up\nhappy\n")
+    plain = baxterface("explain", "plain.face", cwd=tmp_path)
+    woken = [line.strip() for line in plain.out.splitlines() if line.strip().startswith("0.80 s")]
+    assert woken and "face  skin" in woken[0], plain.out
+    (tmp_path / "r.face").write_text("wake up\nhappy\nwait 3s\non touch { sad }\n")
+    (tmp_path / "r.events").write_text("1 touch\n")
+    run = baxterface("explain", "r.face", "--events", "r.events", cwd=tmp_path)
+    faces = [line.strip() for line in run.out.splitlines() if " face " in line]
+    assert faces[0] == woken[0], run.out  # `wake up`'s face, at the very moment `happy` begins
+    # `sad` ends at 1.30, then `happy` starts over and ends at 1.60: each leaves a face.
+    assert [line.split(" s ")[0] for line in faces[-2:]] == ["1.30", "1.60"], run.out
