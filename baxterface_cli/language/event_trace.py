@@ -27,7 +27,7 @@ from lark import Token
 from ..core.face_constants import LIMITS, UNITS
 from . import syntax_tree as n
 from .diagnostics import Diagnostic, Hints, ScriptError, keep_first, one_of
-from .events import TIMERS, read_event
+from .events import KINDS, PLACES, TIMERS, read_event
 from .script_length import in_words
 from .source import decode, read_bounded
 
@@ -78,7 +78,6 @@ def parse_trace(text: str, filename: str = "<events>") -> Trace:
     """The events of `text`; ScriptError with every problem, positioned, if any."""
     reader = _Reader()
     events: List[Posted] = []
-    last = 0.0
     for number, line in enumerate(text.splitlines(), 1):
         tokens = reader.tokens(line, number)
         if tokens is None or not tokens:
@@ -86,10 +85,9 @@ def parse_trace(text: str, filename: str = "<events>") -> Trace:
         if len(events) >= MOST_EVENTS:
             reader.error(tokens[0], f"too many events: the limit is {MOST_EVENTS} in one file")
             break
-        posted = reader.event(tokens, last)
+        posted = reader.event(tokens)
         if posted is not None:
             events.append(posted)
-            last = posted.at
     shown, more_errors, more_warnings = keep_first(reader.diagnostics)
     if shown:
         raise ScriptError(shown, filename, text, more_errors, more_warnings)
@@ -100,6 +98,7 @@ class _Reader:
     def __init__(self) -> None:
         self.diagnostics: List[Diagnostic] = []
         self.hints = Hints()
+        self.last = 0.0  # the latest good time, though its event was bad: times are checked apart
 
     def error(self, token: Token, message: str) -> None:
         self.diagnostics.append(Diagnostic(token.line, token.column, message))
@@ -121,18 +120,22 @@ class _Reader:
             at = m.end()
         return found
 
-    def event(self, tokens: List[Token], last: float) -> Optional[Posted]:
+    def event(self, tokens: List[Token]) -> Optional[Posted]:
         when, *words = tokens
         if when.type != "QUANTITY":
-            self.error(when, f"a line starts with the seconds its event comes at, as in '2.5 {when}'")
+            # `face seen`: the line is the event; `five touch`: the event comes after a time in words.
+            starts_event = str(when).lower() in {kind.split()[0] for kind in KINDS}
+            example = " ".join(str(t) for t in (tokens if starts_event or not words else words))
+            self.error(when, f"a line starts with the seconds its event comes at, as in '2.5 {example}'")
             return None
         before = len(self.diagnostics)
         at = self.seconds(when, "a time")
         if len(self.diagnostics) > before:
             return None
-        if at < last:
-            self.error(when, f"times go forward: {when} comes after {last:g} s")
+        if at < self.last:
+            self.error(when, f"times go forward: {when} comes after {self.last:g} s")
             return None
+        self.last = at
         if at > LIMITS.max_seconds:
             self.error(when, f"{when} is past the limit of {in_words(LIMITS.max_seconds)}")
             return None
@@ -144,6 +147,10 @@ class _Reader:
             return None
         if event.kind in TIMERS:
             self.error(words[0], f"'{event.kind}' is the script's own clock, not an event a file can bring")
+            return None
+        if rest and event.kind == "touch" and not event.arg and rest[0].type == "NAME":
+            hint = self.hints(str(rest[0]).lower(), PLACES) or f"; it lands on {one_of(PLACES)}, or anywhere"
+            self.error(rest[0], f"unknown place '{rest[0]}' for a touch{hint}")
             return None
         if rest:
             self.error(rest[0], f"unexpected '{rest[0]}' after the event; an events file has no options")

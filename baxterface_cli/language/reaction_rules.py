@@ -91,6 +91,9 @@ class ReactionRules:
         return found
 
     def _unknown(self, token: Token, event: n.Event, written: str, fitting: Tuple[str, ...]) -> str:
+        halves = [p for p in PLACES if " " in p and p.split()[0] == str(token).lower()]
+        if event.kind == "touch" and token.type == "NAME" and halves:  # `touch left`: which left?
+            return f"'{token}' alone is not a place on the face; write 'touch {halves[0]}'"
         hint = self.hints(str(token).lower(), option_words(event)) if token.type == "NAME" else ""
         if hint:
             return f"unknown option '{token}' for {written}{hint}"

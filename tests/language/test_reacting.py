@@ -121,6 +121,10 @@ def test_wait_until_signal_forever_and_one_of():
         ),
         ("wait until face seen timeout -1s", "t.face:1:30: error: a timeout cannot be negative"),
         (
+            "on touch left { blink }",
+            "t.face:1:10: error: 'left' alone is not a place on the face; write 'touch left eye'",
+        ),
+        (
             'on word "hello!" { blink }',
             "t.face:1:9: error: 'word' spots a few words of letters (8 at most, 60 letters), not \"hello!\"",
         ),
@@ -201,17 +205,21 @@ def test_an_events_file_says_every_problem_where_it_is():
     with pytest.raises(ScriptError) as caught:
         parse_trace(
             '1 face sen\nface seen\n3 every 5s\n4 face seen queue\n5 word "hi\n6x face lost\n'
-            "7 face lost\n2 face seen\n",
+            "7 face lost\n2 face seen\n9 touch nose\n8 touch\n",
             "v.events",
         )
     assert [d.head("v.events") for d in caught.value.diagnostics] == [
         "v.events:1:8: error: unknown event 'face sen'; did you mean 'face seen'?",
-        "v.events:2:1: error: a line starts with the seconds its event comes at, as in '2.5 face'",
+        "v.events:2:1: error: a line starts with the seconds its event comes at, as in '2.5 face seen'",
         "v.events:3:3: error: 'every' is the script's own clock, not an event a file can bring",
         "v.events:4:13: error: unexpected 'queue' after the event; an events file has no options",
         "v.events:5:8: error: unterminated string: it needs a closing '\"' on the same line",
         "v.events:6:1: error: unknown unit 'x' for a time; use 's' or 'ms'",
         "v.events:8:1: error: times go forward: 2 comes after 7 s",
+        "v.events:9:9: error: unknown place 'nose' for a touch; it lands on 'left eye', 'right eye', 'mouth' "
+        "or 'brows', or anywhere",
+        # Its event was bad, its time good: the next line's time is checked against it.
+        "v.events:10:1: error: times go forward: 8 comes after 9 s",
     ]
 
 
