@@ -95,11 +95,11 @@ def events_trace(script: Script, events: Optional[str], hear: Optional[str], com
 
 
 def heard_words(script: Script, path: str, command: str) -> List[Tuple[float, Any]]:
-    """(when it ended, a `word` event) for each of the script's phrases heard in the WAV at `path`."""
-    import wave
-
+    """(when it ended, a `word` event) for each of the script's phrases heard in the recording at
+    `path` (any sound file `say file` takes)."""
     from ..extras import MissingTool
     from ..language.syntax_tree import Event
+    from ..speech.audio_files import AudioError
 
     words = phrases_wanted(script, command, "--hear")
     try:
@@ -110,9 +110,8 @@ def heard_words(script: Script, path: str, command: str) -> List[Tuple[float, An
         raise fail(f"baxterface {command}: --hear: {e}") from None
     except WordError as e:
         raise fail(f"baxterface {command}: --hear: {e}", 2) from None
-    except (OSError, EOFError, wave.Error) as e:
-        why = e.strerror if isinstance(e, OSError) and e.strerror else str(e) or "cut short"
-        raise fail(f"baxterface {command}: --hear: {path}: not a WAV file it can read ({why})") from None
+    except AudioError as e:
+        raise fail(f"baxterface {command}: --hear: {path}: {e}") from None
     return [(h.at, Event("word", h.word)) for h in heard]
 
 

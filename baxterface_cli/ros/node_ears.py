@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import threading
 import time
-import wave
 from typing import Any, Callable, List, Optional, Tuple
 
 import numpy as np
@@ -96,11 +95,12 @@ class Ears(ClosedOnExit):
                 self.shut = True
                 return str(e)
             return None
-        from ..speech.word_spotter import WordError, read_wav
+        from ..speech.audio_files import AudioError
+        from ..speech.word_spotter import read_recording
 
         try:
-            samples = read_wav(self.source)
-        except (OSError, EOFError, WordError, ValueError, wave.Error) as e:
+            samples = read_recording(self.source)
+        except AudioError as e:
             self.shut = True
             return f"cannot read {self.source}: {e}"
         self._thread = threading.Thread(

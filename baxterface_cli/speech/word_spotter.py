@@ -24,14 +24,12 @@ from __future__ import annotations
 import os
 import tempfile
 import threading
-import wave
 from typing import Any, Callable, Dict, List, NamedTuple, Optional, Sequence, Tuple
 
 import numpy as np
 
 from ..extras import need
-from .audio_files import EXTRA
-from .soundtrack import resample
+from .audio_files import EXTRA, read_sound
 
 RATE = 16000  # the English model's
 FRAME = 0.01  # pocketsphinx's frames: 100 a second
@@ -211,16 +209,10 @@ def _spellings(lookup: Any, phrases: Sequence[str]) -> Dict[str, List[List[str]]
     return out
 
 
-def read_wav(path: str) -> np.ndarray:
-    """A WAV file's samples as 16 kHz mono int16 (channels mixed, resampled)."""
-    with wave.open(path, "rb") as w:
-        if w.getsampwidth() != 2:
-            raise WordError(f"{path}: a WAV of 16-bit samples is needed, not {8 * w.getsampwidth()}-bit")
-        rate, channels = w.getframerate(), w.getnchannels()
-        samples = np.frombuffer(w.readframes(w.getnframes()), "<i2")
-    if channels > 1:
-        samples = samples.reshape(-1, channels).mean(axis=1).astype(np.int16)
-    return resample(samples.astype(np.int16), rate, RATE)
+def read_recording(path: str) -> np.ndarray:
+    """A recording's samples as 16 kHz mono int16, read as `say file` reads one: any format FFmpeg
+    takes, bounded in size, length and time (AudioError, saying why, otherwise)."""
+    return read_sound(path).analysis
 
 
 def spot_samples(
@@ -245,5 +237,5 @@ def spot_samples(
 
 
 def spot_file(path: str, words: Sequence[str], **options: Any) -> List[Heard]:
-    """The phrases heard in a WAV file (see `spot_samples`)."""
-    return spot_samples(read_wav(path), words, **options)
+    """The phrases heard in a recording (see `spot_samples`)."""
+    return spot_samples(read_recording(path), words, **options)

@@ -79,8 +79,8 @@ def test_render_plays_the_handler_after_the_word_it_heard(tmp_path, said):
 @pytest.mark.parametrize(
     "args, message",
     [
-        (["--hear", "missing.wav"], r"--hear: missing.wav: not a WAV file it can read \(No such file"),
-        (["--hear", "robot.face"], r"--hear: robot.face: not a WAV file it can read"),
+        (["--hear", "missing.wav"], r"--hear: missing.wav: no such file$"),
+        (["--hear", "robot.face"], r"--hear: robot.face: not a sound file FFmpeg reads"),
     ],
 )
 def test_a_file_it_cannot_read_is_a_one_line_error(tmp_path, args, message):
@@ -99,4 +99,28 @@ def test_a_script_that_waits_for_no_words_is_told_so(tmp_path, said):
     assert run.code == 2
     assert run.err.strip() == (
         "baxterface explain: --hear: the script listens for no words ('on word \"hello\" { ... }')"
+    )
+
+
+def test_a_recording_in_another_format_is_heard_as_say_file_reads_it(tmp_path, said):
+    path, word_end = said
+    deep = tmp_path / "said24.wav"  # 24-bit samples, as a sound recorder writes them
+    subprocess.run(["sox", str(path), "-b", "24", str(deep)], check=True)
+    (tmp_path / "robot.face").write_text(SCRIPT)
+    run = baxterface("explain", "robot.face", "--hear", str(deep), cwd=tmp_path)
+    assert run.code == 0, run.err
+    ran = re.search(r"^\s*([0-9.]+) s\s+react line 1 'on word \"robot\"' runs$", run.out, re.M)
+    assert ran and abs(float(ran.group(1)) - word_end) < 0.3, run.out
+
+
+def test_a_header_that_claims_hours_is_refused_before_reading(tmp_path):
+    slow = tmp_path / "slow.wav"  # 320 KB at one sample a second: 44 hours, were it resampled
+    with wave.open(str(slow), "wb") as w:
+        w.setnchannels(1), w.setsampwidth(2), w.setframerate(1)
+        w.writeframes(b"\0\0" * 160_000)
+    (tmp_path / "robot.face").write_text(SCRIPT)
+    run = baxterface("explain", "robot.face", "--hear", str(slow), cwd=tmp_path)
+    assert (run.code, run.err) == (
+        1,
+        f"baxterface explain: --hear: {slow}: too long (160000 s; the limit is 600 s)\n",
     )

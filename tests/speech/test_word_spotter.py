@@ -15,7 +15,7 @@ ws = pytest.importorskip("baxterface_cli.speech.word_spotter")
 def said(tmp_path, text: str) -> np.ndarray:
     path = tmp_path / "said.wav"
     subprocess.run(["espeak-ng", "-v", "en-us", "-w", str(path), text], check=True)
-    return ws.read_wav(str(path))
+    return ws.read_recording(str(path))
 
 
 def with_quiet(samples: np.ndarray, before: float = 0.5) -> np.ndarray:
