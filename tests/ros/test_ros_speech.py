@@ -344,7 +344,9 @@ def test_say_file_plays_a_recording_from_the_nodes_folder_and_nothing_outside_it
     try:
         ears.send('say file "hello.wav" text "Hello there"')
         request = ears.wait_for(lambda r: r["topic"] == "sound")
-        mouth = ears.state(speaking)
+        # What it says (its mouth's shapes are another test's: on a loaded machine the node may
+        # skip every frame of a 0.7 s recording, and the ~state between).
+        mouth = ears.state(lambda r: r["saying"] is not None)
         assert (request["sound"], request["command"], request.get("wav")) == (
             SOUND_PLAY_FILE,
             PLAY_ONCE,
