@@ -14,6 +14,7 @@ from ..extras import MissingTool
 from ..language.diagnostics import ScriptError, render_all
 from ..language.parser import parse, parse_file
 from ..language.syntax_tree import Script
+from .finite_numbers import finite
 
 DEFAULT_SEED = 0  # render and explain are reproducible unless told otherwise
 
@@ -142,6 +143,7 @@ CROSSFADE_OPT = typer.Option(
     metavar="SECONDS",
     min=0.0,
     max=2.0,
+    callback=finite,
     help="Blend part changes over this time; 0 cuts. Default: 0.15 s, or cuts for the old node's commands.",
 )
 

@@ -12,6 +12,7 @@ from ..core.face_constants import LIMITS
 from ..language.diagnostics import ScriptError
 from ..language.syntax_tree import Script
 from .app import animation_for, fail, recordings_of
+from .finite_numbers import finite
 
 EVENTS_OPT = typer.Option(
     None,
@@ -37,6 +38,7 @@ DURATION_OPT = typer.Option(
     metavar="T",
     min=0.0,
     max=LIMITS.max_seconds,
+    callback=finite,
     help="Seconds to run a script that reacts (default: until it rests after the last event).",
 )
 

@@ -37,6 +37,7 @@ from .events_option import (
     handlers_need_events,
     reacting_animation,
 )
+from .finite_numbers import finite
 
 
 def play(
@@ -51,7 +52,7 @@ def play(
     window: Optional[bool] = typer.Option(
         None, "--window/--terminal", help="Where to play (default: a window if there is a display)."
     ),
-    fps: float = typer.Option(30.0, "--fps", min=1.0, max=120.0, help=FPS_HELP),
+    fps: float = typer.Option(30.0, "--fps", min=1.0, max=120.0, callback=finite, help=FPS_HELP),
     size: Optional[str] = SIZE_OPT,
     seed: Optional[int] = RANDOM_SEED_OPT,
     theme: Optional[str] = THEME_OPT,

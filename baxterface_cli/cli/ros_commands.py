@@ -26,6 +26,7 @@ from .app import (
     script_from,
 )
 from .events_option import BARGE_IN_OPT, DURATION_OPT, LISTEN_OPT, phrases_wanted
+from .finite_numbers import finite
 
 ROS_OPT = typer.Option(
     None,
@@ -194,7 +195,12 @@ def send(
         False, "--queue", help="Play after what is playing (the node's ~queue topic)."
     ),
     timeout: float = typer.Option(
-        5.0, "--timeout", metavar="SECONDS", min=0.1, help="How long to wait for the face node."
+        5.0,
+        "--timeout",
+        metavar="SECONDS",
+        min=0.1,
+        callback=finite,
+        help="How long to wait for the face node.",
     ),
     ros: Optional[int] = ROS_OPT,
     ros_transport: Optional[str] = TRANSPORT_OPT,
@@ -268,7 +274,7 @@ def stream(
     robot: str = typer.Option(
         "baxter", "--robot", help="baxter (/robot/xdisplay) or sawyer (/robot/head_display)."
     ),
-    fps: float = typer.Option(30.0, "--fps", min=1.0, max=60.0, help=FPS_HELP),
+    fps: float = typer.Option(30.0, "--fps", min=1.0, max=60.0, callback=finite, help=FPS_HELP),
     size: Optional[str] = SIZE_OPT,
     seed: Optional[int] = RANDOM_SEED_OPT,
     theme: Optional[str] = THEME_OPT,

@@ -13,6 +13,7 @@ import typer
 from ..extras import MissingTool
 from ..language.diagnostics import ScriptError
 from .app import IDLE_ON_OPT, RANDOM_SEED_OPT, THEME_OPT, echo_warnings, fail, fitted_theme, load_script
+from .finite_numbers import finite
 
 TOKEN_VARIABLE = "BAXTERFACE_TOKEN"
 SHORTEST_TOKEN = 16
@@ -33,7 +34,9 @@ def screen(
     topic: str = typer.Option("display_chatter", "--topic", help="The command topic, with --ros."),
     no_browser: bool = typer.Option(False, "--no-browser", help="Do not open a web browser here."),
     size: str = typer.Option("1024x600", "--size", metavar="WxH", help="The frames' size."),
-    fps: float = typer.Option(30.0, "--fps", min=1.0, max=60.0, help="The most frames a second."),
+    fps: float = typer.Option(
+        30.0, "--fps", min=1.0, max=60.0, callback=finite, help="The most frames a second."
+    ),
     seed: Optional[int] = RANDOM_SEED_OPT,
     theme: Optional[str] = THEME_OPT,
     idle: bool = IDLE_ON_OPT,

@@ -32,6 +32,7 @@ from .app import (
     script_from,
 )
 from .events_option import DURATION_OPT, EVENTS_OPT, HEAR_OPT, reacting_animation
+from .finite_numbers import finite
 
 if TYPE_CHECKING:  # imported where used: `check` needs neither drawing nor playing
     from ..drawing.renderer import Renderer
@@ -77,7 +78,9 @@ def explain(
     as_json: bool = typer.Option(
         False, "--json", help="One JSON object per frame (JSON Lines): the whole face state."
     ),
-    fps: float = typer.Option(30.0, "--fps", min=1.0, max=120.0, help="Frames per second for --json."),
+    fps: float = typer.Option(
+        30.0, "--fps", min=1.0, max=120.0, callback=finite, help="Frames per second for --json."
+    ),
     seed: int = typer.Option(DEFAULT_SEED, "--seed", help=SEED_HELP),
     idle: bool = typer.Option(False, "--idle", help="Include idle blinks and eye darts (--json)."),
     crossfade: Optional[float] = CROSSFADE_OPT,
@@ -123,11 +126,16 @@ def render(
         "or DIR/ for numbered PNGs.",
     ),
     inline: Optional[str] = INLINE_OPT,
-    fps: float = typer.Option(30.0, "--fps", min=1.0, max=120.0, help=FPS_HELP),
+    fps: float = typer.Option(30.0, "--fps", min=1.0, max=120.0, callback=finite, help=FPS_HELP),
     size: Optional[str] = SIZE_OPT,
     seed: int = typer.Option(DEFAULT_SEED, "--seed", help=SEED_HELP),
     at: Optional[float] = typer.Option(
-        None, "--at", metavar="T", min=0.0, help="For a .png: the time to show (default: the end)."
+        None,
+        "--at",
+        metavar="T",
+        min=0.0,
+        callback=finite,
+        help="For a .png: the time to show (default: the end).",
     ),
     theme: Optional[str] = THEME_OPT,
     idle: bool = typer.Option(False, "--idle", help="Add idle blinks and eye darts."),

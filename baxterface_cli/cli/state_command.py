@@ -11,6 +11,7 @@ from urllib.parse import parse_qs, urlsplit
 import typer
 
 from .app import fail
+from .finite_numbers import finite
 from .ros_commands import (
     ROS_OPT,
     TRANSPORT_OPT,
@@ -46,7 +47,7 @@ def state(
         STATE_TOPIC, "--topic", metavar="TOPIC", help="The face node's state topic, on ROS."
     ),
     timeout: float = typer.Option(
-        10.0, "--timeout", metavar="SECONDS", min=0.1, help="How long to wait for an answer."
+        10.0, "--timeout", metavar="SECONDS", min=0.1, callback=finite, help="How long to wait for an answer."
     ),
     ros: Optional[int] = ROS_OPT,
     ros_transport: Optional[str] = TRANSPORT_OPT,

@@ -17,6 +17,7 @@ from .app import (
     fail,
     fitted_theme,
 )
+from .finite_numbers import finite
 
 
 def studio(
@@ -32,7 +33,9 @@ def studio(
         None, "--buttons", metavar="FILE", help="Your own button panel (JSON; see docs/studio.md)."
     ),
     size: str = typer.Option("512x300", "--size", metavar="WxH", help="The preview's size."),
-    fps: float = typer.Option(30.0, "--fps", min=1.0, max=60.0, help="The preview's most frames a second."),
+    fps: float = typer.Option(
+        30.0, "--fps", min=1.0, max=60.0, callback=finite, help="The preview's most frames a second."
+    ),
     seed: Optional[int] = RANDOM_SEED_OPT,
     theme: Optional[str] = THEME_OPT,
     idle: bool = IDLE_ON_OPT,

@@ -200,3 +200,21 @@ def test_buttons_help_points_to_the_page_that_describes_the_mapping():
     assert 'see "The navigator buttons" in docs/following.md' in said
     following = (ROOT / "docs" / "following.md").read_text(encoding="utf-8")
     assert "## The navigator buttons" in following and "buttons.json" in following
+
+
+@pytest.mark.parametrize(
+    "command, option, value",
+    [
+        (["render", "-e", "happy", "-o", "x.png"], "--at", "inf"),
+        (["render", "-e", "happy", "-o", "x.gif"], "--fps", "nan"),
+        (["render", "-e", "happy", "-o", "x.gif"], "--crossfade", "nan"),
+        (["explain", "-e", "forever { blink; wait 1s }"], "--duration", "nan"),
+        (["send", "happy"], "--timeout", "nan"),
+    ],
+)
+def test_a_number_that_is_not_finite_is_one_line_naming_the_option(command, option, value, tmp_path):
+    # click reads 'nan' and 'inf' as numbers, and NaN passes a range: --duration nan ran for ever.
+    run = baxterface(*command, option, value, cwd=tmp_path)
+    assert run.code == 2
+    assert run.err.splitlines()[-1] == f"Error: Invalid value for '{option}': {value} is not a finite number."
+    assert not list(tmp_path.iterdir())
