@@ -8,7 +8,6 @@ eye is the one on the screen's right, as `wink left` says. A page sends only whe
 
 from __future__ import annotations
 
-import math
 from typing import Optional
 
 from ..core.face_state import FaceState
@@ -23,7 +22,7 @@ REACH = 0.03  # of the screen's height: how near a tap must come to a stroke of 
 def touched_place(layers: ThemeLayers, state: FaceState, x: float, y: float) -> str:
     """The place (events.PLACES) at (x, y), fractions of the frame's width and height; "" for
     anywhere else (the skin, the bars around the face)."""
-    if not (math.isfinite(x) and math.isfinite(y)):
+    if not (0.0 <= x <= 1.0 and 0.0 <= y <= 1.0):  # off the frame (NaN too): on no place of it
         return ""
     width, height = layers.size
     px, py = x * width, y * height

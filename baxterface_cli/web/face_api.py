@@ -210,9 +210,13 @@ class FaceApi:
         Raises `touch` with the place it landed on, or a bare `touch` anywhere else."""
         body = await body_json(request)
         where = [body.get(k) for k in ("x", "y")]
+        usage = 'a touch is JSON with x and y, fractions of the frame: {"x": 0.3, "y": 0.4}'
         if not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in where):
-            raise BadRequest('a touch is JSON with x and y, fractions of the frame: {"x": 0.3, "y": 0.4}')
-        x, y = (float(v) for v in where)
+            raise BadRequest(usage)
+        try:
+            x, y = (float(v) for v in where)
+        except OverflowError:  # an integer of hundreds of digits: JSON has no bound on them
+            raise BadRequest(usage) from None
         place = await run_in_threadpool(lambda: self.frames.place(self.shown.face(), x, y))
         return await self.raised(n.Event("touch", place), "a tap on the page")
 
