@@ -155,6 +155,9 @@ class Limits(NamedTuple):
     max_repeat: int = 10_000  # one repeat's count
     max_seconds: float = 3600.0  # a script's total length
     max_steps: int = 100_000  # statements once repeats and definitions unroll
+    # Steps a recorded run of a script that reacts takes (render, explain, the studio): each keeps
+    # its timeline, about 11 KB, and a `forever` of 1 ms rounds would take a million an hour.
+    max_run_steps: int = 50_000
     max_say: int = 1000  # characters one `say` speaks: about a minute at the default rate
     max_recorded_text: int = 10_000  # the words of one recording (`say file ... text`): ten minutes' worth
     max_shown: int = 50  # diagnostics kept and printed; the rest are only counted

@@ -29,9 +29,10 @@ import threading
 from collections import deque
 from typing import TYPE_CHECKING, Any, Deque, Dict, List, Optional, Tuple
 
+from ..core.face_constants import LIMITS
 from ..core.face_state import FaceState
 from ..language import syntax_tree as n
-from ..language.diagnostics import ScriptError
+from ..language.diagnostics import Diagnostic, ScriptError
 from ..language.events import TIMERS, in_words, matches
 from ..language.parser import parse
 from . import effects as fx
@@ -87,6 +88,7 @@ class LiveSession:
         self._idle_fired: set = set()
         self._every: Dict[float, float] = {}
         self._burst = (now, 0)  # (an instant, the handler runs started at it)
+        self.steps = 0  # steps played: a recorded run takes LIMITS.max_run_steps at most
         if script is not None:
             self.run(script, now)
 
@@ -387,6 +389,11 @@ class LiveSession:
             self._go(self.main, at)
 
     def _play(self, run: Run, step: Play, at: float) -> None:
+        self.steps += 1
+        if self.segments is not None and self.steps > LIMITS.max_run_steps:
+            steps = f"{LIMITS.max_run_steps:,}"
+            why = f"the run takes more than {steps} steps by {at:.1f} s: a 'forever' of very short rounds?"
+            raise ScriptError([Diagnostic(0, 0, why)], run.script.filename, run.script.source)
         playing, started = self.face.timeline, self.face.started
         self.cues.extend(self.face.due(at))
         into = at - started

@@ -5,10 +5,14 @@ from __future__ import annotations
 
 from typing import List
 
+import pytest
+
 from baxterface_cli import parse
+from baxterface_cli.engine import live_session
 from baxterface_cli.engine.live_session import LiveSession
 from baxterface_cli.engine.session_run import run_over
 from baxterface_cli.language import syntax_tree as n
+from baxterface_cli.language.diagnostics import ScriptError
 from baxterface_cli.language.event_trace import parse_trace
 
 SEEN = n.Event("face seen")
@@ -170,3 +174,17 @@ def test_the_old_nodes_commands_cut_on_the_session_as_the_old_node_did():
     session.run(parse("skin_3", "display_chatter"), 1.0)
     shown = session.frame(1.01)[0]
     assert shown.skin == 3 and shown.fade == 1.0 and shown.pictured_from is None
+
+
+def test_a_recorded_run_of_very_short_rounds_is_refused_at_its_step_bound(monkeypatch):
+    # The bound made small: a `forever` of 1 ms rounds took 0.7 GB a minute of run before it.
+    monkeypatch.setattr(live_session, "LIMITS", live_session.LIMITS._replace(max_run_steps=500))
+    with pytest.raises(ScriptError) as refused:
+        run_over(parse("forever { wait 0.001s }", "t.face"), duration=60.0)
+    assert refused.value.diagnostics[0].message == (
+        "the run takes more than 500 steps by 0.5 s: a 'forever' of very short rounds?"
+    )
+    # A live session, which keeps no timelines, is not bounded so.
+    s = session("forever { wait 0.001s }")
+    s.advance(1.0)
+    assert s.steps > 500
