@@ -10,7 +10,6 @@ both show their face through it.
 from __future__ import annotations
 
 import asyncio
-import contextlib
 import io
 import threading
 import time
@@ -128,6 +127,18 @@ class Pump:
         if self._wake is not None:
             self._wake.set()
 
+    async def _woken(self, timeout: float) -> bool:
+        """Wait for a wake, `timeout` seconds at most: was there one? Not `asyncio.wait_for`, which
+        before Python 3.12 loses a cancel that comes as the wait ends: with wakes every few
+        milliseconds, the server's shutdown waited for the pump for ever."""
+        assert self._wake is not None
+        waiting = asyncio.ensure_future(self._wake.wait())
+        try:
+            done, _ = await asyncio.wait({waiting}, timeout=timeout)
+        finally:
+            waiting.cancel()
+        return bool(done)
+
     async def _run(self) -> None:
         from starlette.concurrency import run_in_threadpool
 
@@ -143,10 +154,7 @@ class Pump:
         while True:
             now = time.monotonic()
             at = max(first_motion.next_look(tick, now), min(next_frame, tick))
-            woken = False
-            with contextlib.suppress(asyncio.TimeoutError):
-                await asyncio.wait_for(self._wake.wait(), timeout=max(0.0, at - now))
-                woken = True
+            woken = await self._woken(max(0.0, at - now))
             self._wake.clear()
             now = time.monotonic()
             if woken:

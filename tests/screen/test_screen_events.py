@@ -128,3 +128,17 @@ def test_while_a_handler_runs_the_same_event_is_dropped_and_counted_and_interrup
     assert stop["runs"] == 1
     eventually(lambda: state(screen)["running"] is None)
     assert json.dumps(state(screen))  # the state is plain JSON throughout
+
+
+def test_it_stops_on_sigterm_while_a_forever_of_millisecond_rounds_plays(tmp_path):
+    import signal
+
+    # The frame pump's wait for a wake lost the server's cancel when a wake came with it (Python
+    # before 3.12), and wakes came every few milliseconds: the process never ended.
+    with running_screen(tmp_path, "--no-idle") as screen, pages(screen) as (page,):
+        page.until(lambda m: isinstance(m, bytes))
+        answer = screen.json("POST", "/api/command", "forever { wait 0.001s; look left in 0.001s }")
+        assert answer[0] == 200, answer
+        eventually(lambda: state(screen)["face"]["eye_x"] != 0)
+        assert screen.stop(signal.SIGTERM, timeout=30) == 128 + signal.SIGTERM
+        assert screen.log()[-1] == "baxterface screen: stopped"
