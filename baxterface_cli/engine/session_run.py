@@ -17,6 +17,8 @@ from ..core.face_constants import LIMITS
 from ..language import syntax_tree as n
 from ..language.checker import walk
 from ..language.event_trace import Trace
+from ..language.events import TIMERS
+from ..language.events import in_words as event_words
 from ..language.script_length import in_words
 from .live_session import LiveSession
 from .session_program import first_reacting
@@ -113,4 +115,11 @@ def _rest(session: LiveSession, script: n.Script, evented: bool) -> float:
     if main is not None and not main.done and main.runner.forever and not session.exited and not evented:
         line = next((s.pos.line for s in walk(script.body) if isinstance(s, n.Forever)), 0)
         raise NeverRests(f"'forever' on line {line} never ends and no events come to end it; give --duration")
+    timed = [h.on for h in session.handlers if h.on.event.kind in TIMERS]
+    if timed and not evented and session.clock == 0.0 and not session.exited:  # else a run of nothing
+        on = timed[0]
+        raise NeverRests(
+            f"'on {event_words(on.event)}' on line {on.pos.line} runs by the clock, and nothing else "
+            "happens; give --duration"
+        )
     return session.clock

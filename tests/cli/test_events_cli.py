@@ -162,3 +162,17 @@ def test_explain_with_events_shows_the_face_each_step_leaves_as_without(tmp_path
     assert faces[0] == woken[0], run.out  # `wake up`'s face, at the very moment `happy` begins
     # `sad` ends at 1.30, then `happy` starts over and ends at 1.60: each leaves a face.
     assert [line.split(" s ")[0] for line in faces[-2:]] == ["1.30", "1.60"], run.out
+
+
+def test_a_script_of_only_a_clock_handler_asks_for_a_duration_and_runs_by_it(tmp_path):
+    (tmp_path / "tick.face").write_text("on every 2s { blink }\n")
+    run = baxterface("explain", "tick.face", cwd=tmp_path)
+    assert (run.code, run.err) == (
+        2,
+        "baxterface explain: 'on every 2s' on line 1 runs by the clock, and nothing else happens; "
+        "give --duration\n",
+    )
+    run = baxterface("explain", "tick.face", "--duration", "5", cwd=tmp_path)
+    assert run.code == 0, run.err
+    ran = [line.split()[0] for line in run.out.splitlines() if "'on every 2s' runs" in line]
+    assert ran == ["2.00", "4.00"], run.out
