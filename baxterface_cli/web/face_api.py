@@ -36,6 +36,7 @@ from ..language.event_line import read_event_line
 from ..language.source import decode
 from .answers import diagnostics_json, problem
 from .frame_pump import STATUS_EVERY, Frames, Pages, Pump, Shown
+from .refusal_log import RefusalLog
 from .request_guard import Guard
 from .sounds import SOUND_KEY
 
@@ -99,7 +100,7 @@ def answered(handler: Handler) -> Handler:
         except Exception as e:  # logged and answered; the server carries on
             response = JSONResponse({"error": f"{type(e).__name__}: {e}"}, 500)
         if response.status_code >= 400:
-            self.log(f"{request.method} {request.url.path}: {response.status_code} {_reason(response)}")
+            self.refused(f"{request.method} {request.url.path}: {response.status_code} {_reason(response)}")
         return response
 
     return wrapped
@@ -127,6 +128,7 @@ class FaceApi:
     ) -> None:
         self.shown = shown
         self.log = log
+        self.refused = RefusalLog(log)
         self.frames = Frames(renderer)
         self.pages = Pages()
         self.pump = Pump(shown, self.frames, self.pages, fps, log, status_every, watch)
