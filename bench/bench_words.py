@@ -83,7 +83,7 @@ LATENCY_SNR_DB = 30.0  # a word alone at 20 dB is missed too often to time it
 def say(text: str, voice: str, folder: str) -> np.ndarray:
     path = os.path.join(folder, "say.wav")
     subprocess.run(["espeak-ng", "-v", voice, "-w", path, text], check=True)
-    return ws.read_wav(path)
+    return ws.read_recording(path)
 
 
 def voiced_rms(samples: np.ndarray) -> float:
