@@ -85,7 +85,9 @@ def test_a_word_heard_from_a_recording_runs_its_handler_in_time(tmp_path):
     ws = pytest.importorskip("baxterface_cli.speech.word_spotter")
     wav = tmp_path / "said.wav"
     subprocess.run(["espeak-ng", "-v", "en-us", "-w", str(wav), "look at that robot"], check=True)
-    samples = np.concatenate([np.zeros(8000, np.int16), ws.read_recording(str(wav)), np.zeros(16000, np.int16)])
+    samples = np.concatenate(
+        [np.zeros(8000, np.int16), ws.read_recording(str(wav)), np.zeros(16000, np.int16)]
+    )
     block = ws.RATE // 30
     spotter = {}
 
