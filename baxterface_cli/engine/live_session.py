@@ -83,6 +83,7 @@ class LiveSession:
         self.segments: Optional[List[Tuple[float, Timeline]]] = [] if record else None
         self.cues: List[Cue] = []  # handed out by the next tick
         self.exited = False
+        self.exited_at: Optional[float] = None  # when: a recorded run ends there
         self.ignored = 0  # events after the face exited
         self.last_event = now
         self._idle_fired: set = set()
@@ -426,7 +427,7 @@ class LiveSession:
 
     def _exit(self) -> None:
         self._note(self.clock, "the face exits")
-        self.exited = True
+        self.exited, self.exited_at = True, self.clock
         self.active = None
         self.pending.clear()
 

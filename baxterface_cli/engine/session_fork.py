@@ -30,7 +30,7 @@ from .session_records import Handler, Run
 _SESSION = {
     "lock", "face", "rng", "recordings", "crossfade", "clock", "handlers", "main", "active", "pending",
     "log", "logged", "segments", "cues", "exited", "ignored", "last_event", "_idle_fired", "_every",
-    "_burst", "steps",
+    "_burst", "steps", "exited_at",
 }  # fmt: skip
 _FACE = {"rng", "recordings", "idle_on", "max_queue", "queue", "_robot", "pending", "_playing"}
 _RUN = {"runner", "script", "label", "handler", "playing", "exiting", "waiting", "done", "carry"}

@@ -85,6 +85,8 @@ def run_over(
     if duration is None:
         start, timeline = segments[-1]
         end = max(end, start + timeline.duration)
+    if session.exited_at is not None:  # the events after it changed nothing: the run ends there
+        end = min(end, session.exited_at)
     return SessionRun(Stitched(segments, end, played.marks), list(session.log), session)
 
 

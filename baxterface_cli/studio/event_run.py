@@ -126,6 +126,8 @@ class EventRun:
         if duration is None:
             start, timeline = segments[-1]
             end = max(end, start + timeline.duration)
+        if tail.exited_at is not None:
+            end = min(end, tail.exited_at)
         counts = tail.counts().values()
         totals = {key: sum(c[key] for c in counts) for key in ("runs", "dropped", "queued")}
         return chained(self.chapters, segments, end), totals

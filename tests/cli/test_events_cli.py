@@ -176,3 +176,14 @@ def test_a_script_of_only_a_clock_handler_asks_for_a_duration_and_runs_by_it(tmp
     assert run.code == 0, run.err
     ran = [line.split()[0] for line in run.out.splitlines() if "'on every 2s' runs" in line]
     assert ran == ["2.00", "4.00"], run.out
+
+
+def test_a_run_ends_where_the_face_exits_though_events_come_after(tmp_path):
+    (tmp_path / "ex.face").write_text("on touch { exit }\nforever { wait 1s }\n")
+    (tmp_path / "ex.events").write_text("1 touch\n10 face seen\n")
+    for more in ([], ["--duration", "20"]):
+        run = baxterface("explain", "ex.face", "--events", "ex.events", *more, cwd=tmp_path)
+        assert run.code == 0, run.err
+        lines = run.out.splitlines()
+        exits = [line.split()[0] for line in lines if line.endswith("react the face exits")]
+        assert exits and lines[0] == f"ex.face: {exits[0]} s", run.out
