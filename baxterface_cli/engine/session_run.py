@@ -82,12 +82,21 @@ def run_over(
     end = settle(session, script, trace.end if trace is not None else 0.0, bool(events), duration)
     # A script that never played a step (handlers, and no event for them): the face it started with.
     segments = session.segments or [(0.0, session.face.timeline)]
+    end = run_end(session, segments, end, duration)
+    return SessionRun(Stitched(segments, end, played.marks), list(session.log), session)
+
+
+def run_end(session: LiveSession, segments: List[Any], rested: float, duration: Optional[float]) -> float:
+    """Where a run that came to rest at `rested` ends (the studio's ends as `run_over`'s): without
+    a duration, once its last timeline has played out; at the face's exit, if it exited, as the
+    events after it changed nothing."""
+    end = rested
     if duration is None:
         start, timeline = segments[-1]
         end = max(end, start + timeline.duration)
-    if session.exited_at is not None:  # the events after it changed nothing: the run ends there
+    if session.exited_at is not None:
         end = min(end, session.exited_at)
-    return SessionRun(Stitched(segments, end, played.marks), list(session.log), session)
+    return end
 
 
 def settle(

@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING, Dict, List, NamedTuple, Optional, Tuple
 
 from ..engine.live_session import LiveSession
 from ..engine.session_fork import fork
-from ..engine.session_run import NeverRests, settle
+from ..engine.session_run import NeverRests, run_end, settle
 from ..engine.stitched import Segments
 from ..language import syntax_tree as n
 from ..language.event_trace import Posted
@@ -121,13 +121,8 @@ class EventRun:
         except NeverRests:
             tail, duration = fork(last.session), end_at + WINDOW
             end = settle(tail, self.script, end_at, bool(self.events), duration)
-        # As run_over ends it: where the last timeline ends, when no duration was given.
         segments = [*self.played, *(tail.segments or ())] or [(0.0, tail.face.timeline)]
-        if duration is None:
-            start, timeline = segments[-1]
-            end = max(end, start + timeline.duration)
-        if tail.exited_at is not None:
-            end = min(end, tail.exited_at)
+        end = run_end(tail, segments, end, duration)
         counts = tail.counts().values()
         totals = {key: sum(c[key] for c in counts) for key in ("runs", "dropped", "queued")}
         return chained(self.chapters, segments, end), totals
