@@ -23,9 +23,8 @@ from .effect_messages import DISPLAY_TOPICS
 from .face_loop import FaceLoop
 from .link import CHATTER
 from .node_settings import NodeSettings
+from .send import wait_for_screen
 from .speakers import default_audio, open_speaker
-
-CONNECT = 5.0  # seconds ROS 2 may take to find the screen before the script starts anyway
 
 
 class Deaf(Exception):
@@ -61,7 +60,7 @@ def stream_live(
                 loop.intake.submit(msg.data)
 
         link.subscribe(CHATTER, "std_msgs/String", heard, queue=100)
-        loop.image_pub.wait_for_listener(CONNECT if version == 2 else 0.5)
+        wait_for_screen(loop.image_pub, version)
         start = time.monotonic()
         taken = loop.intake.take(script)  # the worker starts it, as a command that takes over
 

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import time
-from typing import List, Optional
+from typing import Any, List, Optional
 
 from ..drawing.renderer import Renderer
 from ..engine.animation import Animation
@@ -59,6 +59,12 @@ class Sender:
         return self.publisher.listeners()
 
 
+def wait_for_screen(publisher: Any, version: int) -> None:
+    """Until the screen subscribes to `publisher`'s frames, so that the first reach it: ROS 2's
+    discovery takes seconds, ROS 1's a moment. After that, `stream` plays anyway."""
+    publisher.wait_for_listener(CONNECT if version == 2 else 0.5)
+
+
 def listeners(count: int) -> str:
     return f"{count} listener" + ("" if count == 1 else "s")
 
@@ -109,8 +115,7 @@ def stream(
             audio or default_audio(version), link, lambda t: link.log("warn", t), "--audio"
         ) as speaker:
             arm = connect_robot(link, speak=speaker.speak)
-            # The first frames must reach the screen.
-            screen.publisher.wait_for_listener(CONNECT if version == 2 else 0.5)
+            wait_for_screen(screen.publisher, version)
             pending: List[Cue] = list(animation.timeline.cues)
 
             def on_time(t: float) -> None:
