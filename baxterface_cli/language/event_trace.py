@@ -27,7 +27,7 @@ from lark import Token
 from ..core.face_constants import LIMITS, UNITS
 from . import syntax_tree as n
 from .diagnostics import Diagnostic, Hints, ScriptError, keep_first, one_of
-from .events import KINDS, PLACES, TIMERS, read_event
+from .events import KINDS, NUMBER, PLACES, TIMERS, read_event
 from .script_length import in_words
 from .source import decode, read_bounded
 
@@ -35,13 +35,13 @@ MOST_EVENTS = 100_000  # lines of events in one file: a storm of 27 a second for
 
 _TOKEN = re.compile(
     r'(?P<STRING>"(?:\\.|[^"\\\n])*")'
-    r"|(?P<QUANTITY>[-+]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[a-z%][a-z0-9_%]*)?)"
+    rf"|(?P<QUANTITY>{NUMBER}(?:[a-z%][a-z0-9_%]*)?)"
     r"|(?P<NAME>[a-z_][a-z0-9_]*(?:-[a-z0-9_]+)*)"
     r"|(?P<SPACE>[ \t\f\r]+)"
     r"|(?P<COMMENT>#.*)",
     re.I,
 )
-_NUMBER = re.compile(r"([-+]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+))(.*)", re.S)
+_NUMBER = re.compile(rf"({NUMBER})(.*)", re.S)
 _ESCAPE = re.compile(r"\\(.)", re.S)
 
 

@@ -52,7 +52,8 @@ Seconds = Callable[[Token, str], float]
 Decode = Callable[[Token], Optional[str]]
 
 _PHRASE = re.compile(r"[a-z']+(?: [a-z']+)*")
-_LEADING_NUMBER = re.compile(r"[-+]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)")
+NUMBER = r"[-+]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)"  # as the grammar's, before a unit: events files too
+_LEADING_NUMBER = re.compile(NUMBER)
 
 
 def written_zero(token: Token) -> bool:

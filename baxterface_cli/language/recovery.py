@@ -209,8 +209,7 @@ def _blank_statement(text: str, e: UnexpectedInput, stands_alone: Callable[[str]
     # being reported as empty as well.
     # Never after a block's '}' on its line: a statement cannot stand there either, and the
     # placeholder would be the next error, again and again.
-    after_block = text[:start].rstrip(" \t").endswith("}")
-    if kept is None and not after_block and len(filler) >= 5 and "\n" not in filler[:5]:
+    if kept is None and not _after_block(text, start) and len(filler) >= 5 and "\n" not in filler[:5]:
         filler = "blink" + filler[5:]
     return text[:start] + filler + text[end:]
 
@@ -318,7 +317,12 @@ def _syntax_diagnostic(e: UnexpectedInput, text: str) -> Diagnostic:
 def _policy_after_block(text: str, token: Any) -> bool:
     """`on touch { happy } queue`: a policy, or a cooldown, written after the block it is for."""
     word = str(token.value).lower()
-    return word in POLICIES + ("cooldown",) and text[: token.start_pos].rstrip(" \t").endswith("}")
+    return word in POLICIES + ("cooldown",) and _after_block(text, token.start_pos)
+
+
+def _after_block(text: str, at: int) -> bool:
+    """Does a block's '}' come just before `at`, on its line?"""
+    return text[:at].rstrip(" \t").endswith("}")
 
 
 def _closed_string(string: str) -> bool:
