@@ -158,6 +158,16 @@ class Limits(NamedTuple):
     # Steps a recorded run of a script that reacts takes (render, explain, the studio): each keeps
     # its timeline, about 11 KB, and a `forever` of 1 ms rounds would take a million an hour.
     max_run_steps: int = 50_000
+    # A round of a `forever` lasts this at least (a frame at 50 per second): a shorter one waits out
+    # the rest, so no loop can take more rounds than a screen shows frames.
+    least_round: float = 0.02
+    # Handlers one face keeps installed, and how many of them may run by the clock (`every`): each
+    # event looks at its kind's, and each `every` dispatches up to ten times a second.
+    max_handlers: int = 256
+    max_every: int = 16
+    # How far a live face may fall behind its clock, doing steps that were due, before the run doing
+    # them is stopped: its steps are too short for this machine to keep time.
+    max_lag: float = 1.0
     max_say: int = 1000  # characters one `say` speaks: about a minute at the default rate
     max_recorded_text: int = 10_000  # the words of one recording (`say file ... text`): ten minutes' worth
     max_shown: int = 50  # diagnostics kept and printed; the rest are only counted

@@ -18,11 +18,17 @@ are; whatever stops, its speech stops with it and the mouth comes to rest.
 Every public method may be called from any thread (one lock). A frame loop that must never wait
 for a compile (a `say` takes espeak-ng's time) calls `frame`, which never compiles, and leaves
 `advance` to a worker of its own (session_intake.SessionIntake).
+
+Whatever a script says, the session keeps time: a `forever`'s round lasts `LIMITS.least_round`
+at least (session_steps.py); handlers are bounded in number (session_handlers.py); steps and
+handler starts at one instant are bounded; signals, starts and ends are taken in one loop
+(`_drive`), never a call deeper; a live face (`keep_up`) whose due steps fall `LIMITS.max_lag`
+behind its clock `MAX_BEHIND` times in a row stops the run taking them, with one log line; a
+recorded run counts every step, rounds of waits included, against `LIMITS.max_run_steps`.
 """
 
 from __future__ import annotations
 
-import dataclasses
 import itertools
 import random
 import threading
@@ -35,12 +41,12 @@ from ..language import syntax_tree as n
 from ..language.diagnostics import Diagnostic, ScriptError
 from ..language.events import TIMERS, in_words, matches
 from ..language.parser import parse
-from . import effects as fx
-from .compiler import Carry, compile_script
 from .effects import Cue
 from .live_face import LiveFace
-from .session_program import Await, Play, Raise, Runner
+from .session_handlers import EveryClock, by_kind, install, key_of
+from .session_program import Await, Lap, Play, Runner
 from .session_records import Handler, Logged, Run
+from .session_steps import compile_step, round_rest
 from .timeline import Timeline
 
 if TYPE_CHECKING:
@@ -50,6 +56,7 @@ MAX_QUEUE = 32  # events a `queue` handler holds; more are dropped, and counted
 MAX_LOG = 10_000  # lines of the log a live session keeps
 MAX_STEPS_AT_ONCE = 10_000  # steps one run may take without time passing (signals, zero-length moves)
 MAX_STARTS_AT_ONCE = 100  # handler runs started without time passing: `on signal a { signal a }`
+MAX_BEHIND = 200  # due steps a live face takes while `LIMITS.max_lag` behind, before it stops their run
 
 
 class LiveSession:
@@ -66,15 +73,18 @@ class LiveSession:
         crossfade: Optional[float] = None,
         record: bool = False,
         log_lines: Optional[int] = MAX_LOG,
+        keep_up: bool = False,
     ) -> None:
-        """`record` keeps every timeline started, with its time (`segments`), for a render."""
+        """`record` keeps every timeline started, with its time (`segments`), for a render;
+        `keep_up` is for a face on a real clock, which stops a run that cannot keep time."""
         self.lock = threading.RLock()
         self.face = LiveFace(start or FaceState(), idle=idle, seed=seed, now=now, recordings=recordings)
         self.rng = random.Random(f"one of:{seed}")
         self.recordings = recordings
         self.crossfade = crossfade
         self.clock = now
-        self.handlers: List[Handler] = []
+        self.handlers: List[Handler] = []  # swapped whole when it changes: read without the lock
+        self._kinds: Dict[str, List[Handler]] = {}  # the handlers of each kind of event
         self.main: Optional[Run] = None
         self.active: Optional[Run] = None
         self.pending: Deque[Tuple[Handler, n.Event]] = deque()
@@ -87,9 +97,12 @@ class LiveSession:
         self.ignored = 0  # events after the face exited
         self.last_event = now
         self._idle_fired: set = set()
-        self._every: Dict[float, float] = {}
+        self._every = EveryClock()
         self._burst = (now, 0)  # (an instant, the handler runs started at it)
-        self.steps = 0  # steps played: a recorded run takes LIMITS.max_run_steps at most
+        self.steps = 0  # steps taken: a recorded run takes LIMITS.max_run_steps at most
+        self.keep_up = keep_up
+        self._behind = 0  # due steps taken in a row while LIMITS.max_lag behind the clock
+        self._driving = False  # `_drive` is under way, further up this call
         if script is not None:
             self.run(script, now)
 
@@ -111,20 +124,14 @@ class LiveSession:
     def _run(self, script: n.Script, now: float) -> None:
         self.advance(now)
         at = self.clock
-        for on in (s for s in script.body if isinstance(s, n.On)):
-            key = (on.event.kind, on.event.arg, on.event.seconds)
-            # Sent later, a handler replaces the one for its event; in one script, both are kept
-            # (the first starts, the other follows its policy), as `check` says.
-            kept = [
-                h
-                for h in self.handlers
-                if h.script is script or (h.on.event.kind, h.on.event.arg, h.on.event.seconds) != key
-            ]
-            if len(kept) < len(self.handlers):
-                self._note(at, f"{in_words(on.event)}: its handler replaced")
-            self.handlers = kept + [Handler(on, script)]
-            if on.event.kind == "every":
-                self._every.setdefault(on.event.seconds, at + on.event.seconds)
+        handlers, replaced = install(self.handlers, script)  # ScriptError past the bounds: nothing done
+        for event in {key_of(h.on.event): h.on.event for h in replaced}.values():
+            self._note(at, f"{in_words(event)}: its handler replaced")
+        if handlers is not self.handlers:
+            self.handlers, self._kinds = handlers, by_kind(handlers)
+            for h in handlers:
+                if h.on.event.kind == "every":
+                    self._every.add(h.on.event.seconds, at)
         rest = [s for s in script.body if not isinstance(s, (n.On, n.Define))]
         if rest and all(isinstance(s, n.Signal) for s in rest) and self.main is not None:
             for s in rest:
@@ -138,7 +145,7 @@ class LiveSession:
         self.pending.clear()
         self._pause(self.main, at)
         self.main = Run(Runner(script.body, script.definitions, self.rng), script, "main script")
-        self._go(self.main, at)
+        self._drive(at)
 
     def post(self, event: n.Event, at: float, source: str = "") -> None:
         """An event at `at` (the session's clock, if that is later): waits on it end, handlers run."""
@@ -176,24 +183,6 @@ class LiveSession:
         with self.lock:
             return {h.label: dict(runs=h.runs, dropped=h.dropped, queued=h.queued) for h in self.handlers}
 
-    @property
-    def resting(self) -> bool:
-        """Is nothing left to do but wait for events: no handler running or queued, and the main
-        script done, in a `forever`, or waiting for an event without a timeout?"""
-        if self.exited:
-            return True
-        if self.active is not None or self.pending:
-            return False
-        main = self.main
-        if main is None or main.done:
-            return True
-        waiting = (
-            main.waiting is not None
-            and main.waiting[0].timeout is None
-            and main.waiting[0].event.kind != "idle"
-        )
-        return waiting or main.runner.forever
-
     # -- time
 
     def advance(self, until: float) -> None:
@@ -203,9 +192,29 @@ class LiveSession:
                 due = self.next_due()
                 if due is None or due[0] > until:
                     break
+                if self.keep_up and until - due[0] > LIMITS.max_lag:
+                    self._behind += 1
+                    if self._behind > MAX_BEHIND:
+                        self._fall_behind(until)
+                        continue
                 self.clock = max(self.clock, due[0])
                 due[1]()
+            self._behind = 0
             self.clock = max(self.clock, until)
+
+    def _fall_behind(self, now: float) -> None:
+        """A live face that cannot keep time: the run whose steps fell due long ago is stopped, the
+        `every` ticks missed meanwhile are let go, and the face goes on from `now`."""
+        self._behind = 0
+        run = self._owner()
+        if run is not None and not run.done:
+            why = f"{now - self.clock:.1f} s behind the clock, its steps too short to keep time"
+            self._note(self.clock, f"{run.label} stopped: {why}")
+            run.playing = run.waiting = None
+            self._finished(run, self.clock)
+        self._every.skip_past(now)
+        self.clock = max(self.clock, now)
+        self._drive(self.clock)
 
     def next_due_at(self) -> Optional[float]:
         with self.lock:
@@ -228,9 +237,10 @@ class LiveSession:
                 if wait.event.kind == "idle":
                     at = max(since, self.last_event) + wait.event.seconds
                     found.append((at, 1, lambda run=run: self._woken(run, self.clock)))
-        for period, at in self._every.items():
-            found.append((at, 2, lambda period=period: self._tick_every(period)))
-        for seconds in {h.on.event.seconds for h in self.handlers if h.on.event.kind == "idle"}:
+        tick = self._every.first()
+        if tick is not None:
+            found.append((tick[0], 2, self._tick_every))
+        for seconds in {h.on.event.seconds for h in self._kinds.get("idle", ())}:
             if seconds not in self._idle_fired:
                 found.append((self.last_event + seconds, 3, lambda s=seconds: self._fire_idle(s)))
         if not found:
@@ -238,8 +248,8 @@ class LiveSession:
         at, _, action = min(found, key=lambda f: (f[0], f[1]))
         return at, action
 
-    def _tick_every(self, period: float) -> None:
-        self._every[period] += period
+    def _tick_every(self) -> None:
+        period = self._every.tick()
         self._dispatch(n.Event("every", seconds=period), self.clock, "")
 
     def _fire_idle(self, seconds: float) -> None:
@@ -259,11 +269,9 @@ class LiveSession:
         for run in (self.main, self.active):
             if run is not None and run.waiting is not None and matches(run.waiting[0].event, event):
                 self._woken(run, at, go=False)
-        for handler in [h for h in self.handlers if matches(h.on.event, event)]:
+        for handler in [h for h in self._kinds.get(event.kind, ()) if matches(h.on.event, event)]:
             self._offer(handler, event, at)
-        owner = self._owner()
-        if owner is not None and self._ready(owner):
-            self._go(owner, at)
+        self._drive(at)
 
     def _offer(self, handler: Handler, event: n.Event, at: float) -> None:
         on = handler.on
@@ -293,8 +301,8 @@ class LiveSession:
             self._start(handler, at, cut=True)
 
     def _start(self, handler: Handler, at: float, cut: bool) -> bool:
-        """Start a run of `handler`; False if handlers have started one another too often at `at`,
-        a loop that takes no time (each start is a level deeper in this call)."""
+        """Start a run of `handler` (`_drive` takes its steps); False if handlers have started one
+        another too often at `at`, a loop that takes no time."""
         started = self._burst[1] + 1 if self._burst[0] == at else 1
         self._burst = (at, started)
         if started > MAX_STARTS_AT_ONCE:
@@ -316,7 +324,6 @@ class LiveSession:
         run.carry = not cut
         self.active = run
         self._note(at, f"{handler.label} runs")
-        self._go(run, at)
         return True
 
     # -- runs
@@ -339,8 +346,8 @@ class LiveSession:
 
     def _woken(self, run: Run, at: float, go: bool = True) -> None:
         run.waiting = None
-        if go and run is self._owner():
-            self._go(run, at)
+        if go:
+            self._drive(at)
 
     def _timed_out(self, run: Run) -> None:
         wait, _ = run.waiting  # type: ignore[misc]
@@ -353,27 +360,51 @@ class LiveSession:
         if run.exiting:
             self._exit()
         else:
-            self._go(run, self.clock)
+            self._drive(self.clock)
 
-    def _go(self, run: Run, at: float) -> None:
-        """Take `run`'s steps from `at` until one takes time, waits, or hands the face on."""
-        for _ in range(MAX_STEPS_AT_ONCE):
-            if run is not self._owner() or not self._ready(run):
-                return
-            step = run.runner.next()
-            if step is None:
-                self._finished(run, at)
-                return
-            if isinstance(step, Play):
-                self._play(run, step, at)
-                return
-            if isinstance(step, Await):
-                run.waiting = (step.statement, at)
-                continue
-            if isinstance(step, Raise):
-                self._dispatch(n.Event("signal", step.statement.name), at, f"line {step.statement.pos.line}")
-        self._note(at, f"{run.label} stopped: it took {MAX_STEPS_AT_ONCE} steps without time passing")
-        self._finished(run, at)
+    def _drive(self, at: float) -> None:
+        """Take the steps of whichever run has the face, from `at`, until one takes time or waits,
+        or nothing is left to run. A signal, a handler starting or a run ending is taken here in
+        turn, never a call deeper: a thousand signals in a row cost no stack."""
+        if self._driving:
+            return  # the loop further up this call goes on with whatever changed
+        self._driving = True
+        taken: Dict[int, int] = {}
+        try:
+            while True:
+                run = self._owner()
+                if run is None or not self._ready(run):
+                    return
+                taken[id(run)] = taken.get(id(run), 0) + 1
+                if taken[id(run)] > MAX_STEPS_AT_ONCE:
+                    self._note(
+                        at, f"{run.label} stopped: it took {MAX_STEPS_AT_ONCE} steps without time passing"
+                    )
+                    self._finished(run, at)
+                    continue
+                self._step(run, at)
+        finally:
+            self._driving = False
+
+    def _step(self, run: Run, at: float) -> None:
+        self.steps += 1
+        if self.segments is not None and self.steps > LIMITS.max_run_steps:
+            steps = f"{LIMITS.max_run_steps:,}"
+            why = f"the run takes more than {steps} steps by {at:.1f} s: a 'forever' of very short rounds?"
+            raise ScriptError([Diagnostic(0, 0, why)], run.script.filename, run.script.source)
+        step = run.runner.next()
+        if step is None:
+            self._finished(run, at)
+        elif isinstance(step, Play):
+            self._play(run, step, at)
+        elif isinstance(step, Await):
+            run.waiting = (step.statement, at)
+        elif isinstance(step, Lap):
+            rest = round_rest(step.frame, at)  # a wait that begins nothing new: nothing to compile
+            if rest is not None:
+                run.playing = (rest, at, at + rest.statement.duration)
+        else:
+            self._dispatch(n.Event("signal", step.statement.name), at, f"line {step.statement.pos.line}")
 
     def _finished(self, run: Run, at: float) -> None:
         run.done = True
@@ -386,44 +417,20 @@ class LiveSession:
             if self._start(handler, at, cut=False):
                 return
         if self.main is not None and not self.main.done and self.active is None:
-            self._note(at, "main script goes on")
-            self._go(self.main, at)
+            self._note(at, "main script goes on")  # `_drive` takes it on
 
     def _play(self, run: Run, step: Play, at: float) -> None:
-        self.steps += 1
-        if self.segments is not None and self.steps > LIMITS.max_run_steps:
-            steps = f"{LIMITS.max_run_steps:,}"
-            why = f"the run takes more than {steps} steps by {at:.1f} s: a 'forever' of very short rounds?"
-            raise ScriptError([Diagnostic(0, 0, why)], run.script.filename, run.script.source)
         playing, started = self.face.timeline, self.face.started
         self.cues.extend(self.face.due(at))
-        into = at - started
-        script = n.Script(
-            tuple(run.script.definitions.values()) + (step.statement,),
-            run.script.filename,
-            source=run.script.source,
-            legacy=run.script.legacy,  # the old node's commands cut, as the old node did
+        timeline, length, exits = compile_step(
+            run, step, playing, at - started, self.face.rng, self.crossfade, self.recordings
         )
-        timeline = self._compile(script, at_rest(playing, into), Carry(playing, into) if run.carry else None)
         run.carry = True
         self.face.begin(timeline, at)
         if self.segments is not None:
             self.segments.append((at, timeline))
-        exits = any(isinstance(c.effect, fx.ShutDown) for c in timeline.cues)
-        length = timeline.duration if exits else max((s.end for s in timeline.spans), default=0.0)
         run.exiting = exits
         run.playing = (step, at, at + length)
-
-    def _compile(self, script: n.Script, start: FaceState, carry: Optional[Carry]) -> Timeline:
-        from ..speech.recordings import RecordingError
-
-        seed = self.face.rng.randrange(2**32)
-        try:
-            return compile_script(
-                script, seed, start, self.crossfade, recordings=self.recordings, carry=carry
-            )
-        except RecordingError as e:  # found only in saying it: a text espeak-ng crashed on
-            raise ScriptError([e.diagnostic()], script.filename, script.source) from None
 
     def _exit(self) -> None:
         self._note(self.clock, "the face exits")
@@ -440,10 +447,3 @@ class LiveSession:
         with self.lock:
             new = min(self.logged - logged, len(self.log))
             return list(itertools.islice(reversed(self.log), new))[::-1]  # the new only: a storm
-
-
-def at_rest(timeline: Timeline, t: float) -> FaceState:
-    """The face at `t` with its speech stopped: the mouth as the expression has it, at rest."""
-    if not timeline.sounding(t):
-        return timeline.sample(t)
-    return dataclasses.replace(timeline, speech=[]).sample(t)

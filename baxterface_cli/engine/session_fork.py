@@ -23,6 +23,7 @@ from typing import Dict, Optional
 from .effects import StatusFold
 from .live_face import LiveFace
 from .live_session import LiveSession
+from .session_handlers import by_kind
 from .session_program import Runner, _Frame
 from .session_records import Handler, Run
 
@@ -30,7 +31,7 @@ from .session_records import Handler, Run
 _SESSION = {
     "lock", "face", "rng", "recordings", "crossfade", "clock", "handlers", "main", "active", "pending",
     "log", "logged", "segments", "cues", "exited", "ignored", "last_event", "_idle_fired", "_every",
-    "_burst", "steps", "exited_at",
+    "_burst", "steps", "exited_at", "_kinds", "keep_up", "_behind", "_driving",
 }  # fmt: skip
 _FACE = {"rng", "recordings", "idle_on", "max_queue", "queue", "_robot", "pending", "_playing"}
 _RUN = {"runner", "script", "label", "handler", "playing", "exiting", "waiting", "done", "carry"}
@@ -72,6 +73,7 @@ def fork(session: LiveSession) -> LiveSession:
             return handlers[id(h)]
 
         twin.handlers = [handler(h) for h in session.handlers]  # type: ignore[misc]
+        twin._kinds = by_kind(twin.handlers)
         twin.main = _run(session.main, handler, twin.rng)
         twin.active = _run(session.active, handler, twin.rng)
         twin.pending = deque((handler(h), event) for h, event in session.pending)
@@ -79,7 +81,7 @@ def fork(session: LiveSession) -> LiveSession:
         twin.segments = None if session.segments is None else []
         twin.cues = list(session.cues)
         twin._idle_fired = set(session._idle_fired)
-        twin._every = dict(session._every)
+        twin._every = session._every.copy()
         return twin
 
 
@@ -111,8 +113,8 @@ def _runner(runner: Runner, rng: random.Random) -> Runner:
     twin.rng = rng  # the session's `one of` stream, which every runner shares
     twin.frames = []
     for frame in runner.frames:
-        copied = _Frame(frame.body, frame.rounds)
-        copied.index = frame.index
+        copied = _Frame(frame.body, frame.rounds, frame.forever)
+        copied.index, copied.lap = frame.index, frame.lap
         twin.frames.append(copied)
     twin._holding = dict(runner._holding)
     return twin

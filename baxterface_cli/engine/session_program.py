@@ -33,18 +33,29 @@ class Raise(NamedTuple):
     statement: n.Signal
 
 
-Step = Union[Play, Await, Raise]
+class Lap(NamedTuple):
+    """A round of a `forever` begins: the session makes each last `LIMITS.least_round` at least."""
+
+    frame: _Frame
+
+
+Step = Union[Play, Await, Raise, Lap]
 
 
 class _Frame:
-    """A sequence being walked: its statements, the next one's index, and rounds left (None: forever)."""
+    """A sequence being walked: its statements, the next one's index, rounds left (None: forever),
+    and for a `forever`, when its round began (the session's to set: the runner knows no time)."""
 
-    __slots__ = ("body", "index", "rounds")
+    __slots__ = ("body", "index", "rounds", "forever", "lap")
 
-    def __init__(self, body: Sequence[Any], rounds: Optional[int]) -> None:
+    def __init__(
+        self, body: Sequence[Any], rounds: Optional[int], forever: Optional[n.Forever] = None
+    ) -> None:
         self.body = body
         self.index = 0
         self.rounds = rounds
+        self.forever = forever
+        self.lap: Optional[float] = None
 
 
 class Runner:
@@ -84,6 +95,8 @@ class Runner:
                     frame.rounds -= 1
                 if frame.rounds is None or frame.rounds > 0:
                     frame.index = 0
+                    if frame.forever is not None:
+                        return Lap(frame)
                     continue
                 self.frames.pop()
                 continue
@@ -104,7 +117,8 @@ class Runner:
         if isinstance(s, n.OneOf):
             self.frames.append(_Frame(s.choices[self.rng.randrange(len(s.choices))], 1))
         elif isinstance(s, n.Forever):
-            self.frames.append(_Frame(s.body, None))
+            self.frames.append(_Frame(s.body, None, s))
+            return Lap(self.frames[-1])
         elif isinstance(s, n.Repeat) and self.holds(s):
             self.frames.append(_Frame(s.body, s.count))
         elif isinstance(s, n.Call) and self.holds(s):

@@ -111,9 +111,25 @@ def settle(
     return _rest(session, script, evented)
 
 
+def resting(session: LiveSession) -> bool:
+    """Is nothing left to do but wait for events: no handler running or queued, and the main
+    script done, in a `forever`, or waiting for an event without a timeout?"""
+    if session.exited:
+        return True
+    if session.active is not None or session.pending:
+        return False
+    main = session.main
+    if main is None or main.done:
+        return True
+    waiting = (
+        main.waiting is not None and main.waiting[0].timeout is None and main.waiting[0].event.kind != "idle"
+    )
+    return waiting or main.runner.forever
+
+
 def _rest(session: LiveSession, script: n.Script, evented: bool) -> float:
     """When the session comes to rest, stepping it from its clock."""
-    while not session.resting:
+    while not resting(session):
         due = session.next_due()
         if due is None:
             break

@@ -1,0 +1,139 @@
+"""The handlers a live session installs, and the clock that raises its `every` events.
+
+Installing is all or nothing: a script whose handlers would take the face past the handlers it
+keeps (`LIMITS.max_handlers`, of which `LIMITS.max_every` run by the clock) is refused whole,
+with one error saying why, and nothing it says is installed. Each handler keeps only what it runs:
+its `on`, and the definitions its body calls (through each other), not the whole script it came
+in, so a 250 KB script of definitions costs its handlers nothing once read.
+
+`EveryClock` keeps each `every` period's next tick in a heap: the session asks for the earliest
+only, so a script's timers cost the same however many periods it has.
+"""
+
+from __future__ import annotations
+
+import heapq
+from typing import Dict, Iterator, List, Optional, Sequence, Tuple
+
+from ..core.face_constants import LIMITS
+from ..language import syntax_tree as n
+from ..language.diagnostics import Diagnostic, ScriptError
+from .session_records import Handler
+
+Key = Tuple[str, str, float]
+
+
+def key_of(event: n.Event) -> Key:
+    """What makes two handlers the same event's: a later one replaces the earlier."""
+    return (event.kind, event.arg, event.seconds)
+
+
+def calls_needed(body: Sequence[n.Statement], definitions: Dict[str, n.Define]) -> Tuple[n.Define, ...]:
+    """The definitions `body` calls, through each other's calls, in the script's order."""
+    needed: Dict[str, n.Define] = {}
+    stack: List[Iterator[n.Statement]] = [iter(body)]
+    while stack:  # without recursion: blocks nest as deep as the parser allows
+        statement = next(stack[-1], None)
+        if statement is None:
+            stack.pop()
+            continue
+        if isinstance(statement, n.Call) and statement.name in definitions and statement.name not in needed:
+            needed[statement.name] = definitions[statement.name]
+            stack.append(iter(definitions[statement.name].body))
+        if isinstance(statement, n.BLOCKS) and not isinstance(statement, n.Define):
+            stack.append(iter(statement.body))
+    order = list(definitions)
+    return tuple(sorted(needed.values(), key=lambda d: order.index(d.name)))
+
+
+def install(installed: List[Handler], script: n.Script) -> Tuple[List[Handler], List[Handler]]:
+    """`installed` with `script`'s handlers added, each replacing an installed handler of its
+    event (a script's own are all kept: the first starts, the others follow their policies), and
+    the handlers replaced. ScriptError, and nothing changed, past the bounds."""
+    ons = [s for s in script.body if isinstance(s, n.On)]
+    if not ons:
+        return installed, []
+    keys = {key_of(on.event) for on in ons}
+    kept = [h for h in installed if key_of(h.on.event) not in keys]
+    replaced = [h for h in installed if key_of(h.on.event) in keys]
+    _within_bounds(kept, ons, script)
+    definitions = script.definitions
+    added = [Handler(on, kept_for(script, on.body, definitions)) for on in ons]
+    return kept + added, replaced
+
+
+def kept_for(script: n.Script, body: Sequence[n.Statement], definitions: Dict[str, n.Define]) -> n.Script:
+    """`script` cut down to what `body` needs to run: the definitions it calls (`definitions`,
+    the script's, read once by the caller). The source is one string every handler of the script
+    shares, so an error still shows its line."""
+    return n.Script(
+        calls_needed(body, definitions), script.filename, source=script.source, legacy=script.legacy
+    )
+
+
+def _within_bounds(kept: List[Handler], ons: List[n.On], script: n.Script) -> None:
+    """Refuse, at the first handler past it, a script that takes the face past either bound."""
+    every = sum(1 for h in kept if h.on.event.kind == "every")
+    for count, on in enumerate(ons, start=len(kept) + 1):
+        every += on.event.kind == "every"
+        if count > LIMITS.max_handlers:
+            why = (
+                f"refused: this script would give the face {len(kept) + len(ons)} handlers, more than the "
+                f"{LIMITS.max_handlers} it keeps (a handler for an event already handled replaces it)"
+            )
+        elif every > LIMITS.max_every:
+            why = (
+                f"refused: this script would give the face more than {LIMITS.max_every} 'every' handlers, "
+                "the most it keeps in time"
+            )
+        else:
+            continue
+        raise ScriptError([Diagnostic(on.pos.line, on.pos.column, why)], script.filename, script.source)
+
+
+def by_kind(handlers: Sequence[Handler]) -> Dict[str, List[Handler]]:
+    """The handlers of each kind of event, in the order installed: an event looks at its own."""
+    found: Dict[str, List[Handler]] = {}
+    for h in handlers:
+        found.setdefault(h.on.event.kind, []).append(h)
+    return found
+
+
+class EveryClock:
+    """Each `every` period's next tick, earliest first (see the module's docstring)."""
+
+    def __init__(self) -> None:
+        self._heap: List[Tuple[float, float]] = []  # (next tick, period)
+        self._periods: set = set()
+
+    def add(self, period: float, at: float) -> None:
+        """Tick every `period` from `at` on; a period already ticking keeps its time."""
+        if period not in self._periods:
+            self._periods.add(period)
+            heapq.heappush(self._heap, (at + period, period))
+
+    def first(self) -> Optional[Tuple[float, float]]:
+        """(the earliest tick, its period), or None."""
+        return self._heap[0] if self._heap else None
+
+    def tick(self) -> float:
+        """Take the earliest tick; its period ticks again a period later. Returns the period."""
+        at, period = self._heap[0]
+        heapq.heapreplace(self._heap, (at + period, period))
+        return period
+
+    def skip_past(self, now: float) -> None:
+        """Ticks missed by a face that fell behind are not made up: each period's next is its
+        first after `now`, as a clock's alarm that was held up rings once, not again and again."""
+        moved = []
+        for at, period in self._heap:
+            if at <= now:
+                at += period * (int((now - at) // period) + 1)
+            moved.append((at, period))
+        heapq.heapify(moved)
+        self._heap = moved
+
+    def copy(self) -> EveryClock:
+        twin = EveryClock()
+        twin._heap, twin._periods = list(self._heap), set(self._periods)
+        return twin
