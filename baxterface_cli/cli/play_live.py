@@ -60,7 +60,12 @@ def play_live(
     with contextlib.ExitStack() as stack:
         try:
             session = LiveSession(
-                script, seed=seed, idle=idle, recordings=recordings_of(script), crossfade=crossfade
+                script,
+                seed=seed,
+                idle=idle,
+                recordings=recordings_of(script),
+                crossfade=crossfade,
+                keep_up=True,
             )
         except MissingTool as e:
             raise fail(f"baxterface: {e}") from None

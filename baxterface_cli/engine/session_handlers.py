@@ -78,14 +78,11 @@ def _within_bounds(kept: List[Handler], ons: List[n.On], script: n.Script) -> No
         every += on.event.kind == "every"
         if count > LIMITS.max_handlers:
             why = (
-                f"refused: this script would give the face {len(kept) + len(ons)} handlers, more than the "
-                f"{LIMITS.max_handlers} it keeps (a handler for an event already handled replaces it)"
+                f"more handlers than the {LIMITS.max_handlers} a face keeps: it has {len(kept)}, and this "
+                f"script adds {len(ons)} (a handler for an event already handled replaces it)"
             )
         elif every > LIMITS.max_every:
-            why = (
-                f"refused: this script would give the face more than {LIMITS.max_every} 'every' handlers, "
-                "the most it keeps in time"
-            )
+            why = f"more 'every' handlers than the {LIMITS.max_every} a face keeps in time"
         else:
             continue
         raise ScriptError([Diagnostic(on.pos.line, on.pos.column, why)], script.filename, script.source)

@@ -7,10 +7,13 @@ parses, hands them to the session in the order they came, and advances the sessi
 something falls due (a step's end, a timeout, `every`, `idle`), compiling each step there. The
 frame loop reads the face with `LiveSession.frame`, which never compiles.
 
-What waits is bounded. A command that takes over replaces one still waiting to be read (it would
-be replaced the moment it started anyway: counted in `dropped`); at most `max_pending` queued
-commands wait to be read and `max_queue` read ones wait their turn; at most `max_events` events
-wait for the worker (a storm beyond that is counted in `events_dropped`, never held).
+What waits is bounded, and nothing is lost unsaid. Commands are read in the order they came. A
+command that takes over, read while a later one waits, would be replaced the moment it started:
+its main statements are let go (counted in `dropped`), but its handlers and signals are taken, so
+a batch of handler lines sent back to back installs every one. At most `max_unread` commands,
+`max_pending` queued ones among them, wait to be read, and `max_queue` read ones wait their turn;
+at most `max_events` events wait for the worker (a storm beyond that is counted in
+`events_dropped`, never held). Past a bound an input is refused, and the refusal says why.
 A queued command (`~queue`) starts when the face is free: no handler running or waiting and the
 main script done. `signal NAME` alone raises the signal without the parser (a storm of them
 costs a dictionary look-up each), and never takes over.
@@ -39,6 +42,7 @@ from ..speech.recordings import RecordingError
 from .live_session import LiveSession
 
 MAX_PENDING = 8  # queued commands waiting to be read
+MAX_UNREAD = 1000  # commands of any kind waiting to be read
 MAX_QUEUE = 32  # queued scripts read and waiting their turn
 MAX_EVENTS = 10_000  # events waiting for the worker
 BATCH = 1000  # inputs taken in one go before the session's time is advanced
@@ -54,8 +58,19 @@ class Refused(Exception):
 
 
 def _totals(session: LiveSession) -> Dict[str, int]:
-    counts = session.counts().values()
-    return {key: sum(c[key] for c in counts) for key in ("runs", "dropped", "queued")}
+    """Every handler's counts together (not by label: two scripts' handlers may share a line)."""
+    with session.lock:
+        handlers = session.handlers
+        return {key: sum(getattr(h, key) for h in handlers) for key in ("runs", "dropped", "queued")}
+
+
+def _kept_of(script: n.Script) -> Optional[n.Script]:
+    """A take-over replaced before it started: what of it still counts (its handlers, definitions
+    and signals), or None if it said nothing else (it is taken as it is)."""
+    kept = tuple(s for s in script.body if isinstance(s, (n.On, n.Define, n.Signal)))
+    if len(kept) == len(script.body):
+        return None
+    return n.Script(kept, script.filename, source=script.source, legacy=script.legacy)
 
 
 class SessionIntake(ClosedOnExit):
@@ -71,6 +86,7 @@ class SessionIntake(ClosedOnExit):
         max_pending: int = MAX_PENDING,
         max_queue: int = MAX_QUEUE,
         max_events: int = MAX_EVENTS,
+        max_unread: int = MAX_UNREAD,
     ) -> None:
         self.session = session
         self.clock = clock
@@ -78,10 +94,11 @@ class SessionIntake(ClosedOnExit):
         self.log = log
         self.filename = filename
         self.max_pending, self.max_queue, self.max_events = max_pending, max_queue, max_events
+        self.max_unread = max_unread
         self._arrived = 0  # orders commands and events as they came
         self._handled = 0  # the last of them the worker has handed to the session (or let go)
         # Each with the future its sender waits on, if it waits: (order, text, time, future).
-        self._latest: Optional[Tuple[int, Said, float, Optional[Future]]] = None  # a take-over
+        self._takeovers: Deque[Tuple[int, Said, float, Optional[Future]]] = deque()  # unread
         self._texts: Deque[Tuple[int, Said, float, Optional[Future]]] = deque()  # queued, unread
         self._events: Deque[Tuple[int, n.Event, float, str, Optional[Future]]] = deque()
         self.waiting: Deque[n.Script] = deque()  # queued scripts, read, waiting for the face
@@ -90,6 +107,7 @@ class SessionIntake(ClosedOnExit):
         self.posted = 0  # events handed to the session
         self.counts: Dict[str, Dict[str, int]] = {}  # the session's, as the worker last left it
         self._logged = session.logged
+        self._forwarded: Dict[str, Tuple[float, int]] = {}  # a text forwarded: when, repeats hidden since
         self._cond = threading.Condition()
         self._closed = False
         self.busy = False
@@ -118,16 +136,12 @@ class SessionIntake(ClosedOnExit):
         with self._cond:
             if self._closed:
                 return "refused a command: the face has stopped"
+            if queued and len(self._texts) >= self.max_pending:
+                return f"refused a queued script: {self.max_pending} are already waiting to be read"
+            if len(self._texts) + len(self._takeovers) >= self.max_unread:
+                return f"refused a command: {self.max_unread} are already waiting to be read"
             self._arrived += 1
-            if queued:
-                if len(self._texts) >= self.max_pending:
-                    return f"refused a queued script: {self.max_pending} are already waiting to be read"
-                self._texts.append((self._arrived, said, self.clock(), done))
-            else:
-                if self._latest is not None:
-                    self.dropped += 1
-                    _let_go(self._latest[3])
-                self._latest = (self._arrived, said, self.clock(), done)
+            (self._texts if queued else self._takeovers).append((self._arrived, said, self.clock(), done))
             self._cond.notify()
         return None
 
@@ -164,15 +178,14 @@ class SessionIntake(ClosedOnExit):
             self._closed = True
             self._cond.notify_all()
             # Nothing will take what still waits: its senders are let go.
-            waiting = [self._latest] if self._latest is not None else []
-            for item in [*waiting, *self._texts, *self._events]:
+            for item in [*self._takeovers, *self._texts, *self._events]:
                 if item[-1] is not None:
                     item[-1].cancel()
 
     def idle(self) -> bool:
         """Nothing waiting to be read or handed over, and the worker not busy."""
         with self._cond:
-            return self._latest is None and not self._texts and not self._events and not self.busy
+            return not self._takeovers and not self._texts and not self._events and not self.busy
 
     # -- the worker
 
@@ -198,7 +211,7 @@ class SessionIntake(ClosedOnExit):
                         self._do(item)
                     finally:
                         with self._cond:
-                            self._handled = item[1]
+                            self._handled = item[2]
                             self._cond.notify_all()
                 self.session.advance(self.clock())
                 self._start_queued()
@@ -212,7 +225,7 @@ class SessionIntake(ClosedOnExit):
                 self.ready()
 
     def _has_input(self) -> bool:
-        return self._latest is not None or bool(self._texts) or bool(self._events)
+        return bool(self._takeovers) or bool(self._texts) or bool(self._events)
 
     def _until_due(self) -> Optional[float]:
         due = self.session.next_due_at()
@@ -221,8 +234,8 @@ class SessionIntake(ClosedOnExit):
     def _next_input(self):
         """The input that came first, or None (only time passed)."""
         firsts = []
-        if self._latest is not None:
-            firsts.append((self._latest[0], "take over"))
+        if self._takeovers:
+            firsts.append((self._takeovers[0][0], "take over"))
         if self._texts:
             firsts.append((self._texts[0][0], "queue"))
         if self._events:
@@ -231,15 +244,15 @@ class SessionIntake(ClosedOnExit):
             return None
         _, kind = min(firsts)
         if kind == "take over":
-            item, self._latest = self._latest, None
-            return (kind,) + item  # type: ignore[operator]
+            item = self._takeovers.popleft()
+            return (kind, bool(self._takeovers)) + item
         if kind == "queue":
-            return (kind,) + self._texts.popleft()
-        return (kind,) + self._events.popleft()
+            return (kind, False) + self._texts.popleft()
+        return (kind, False) + self._events.popleft()
 
     def _do(self, item) -> None:
         if item[0] == "event":
-            _, _, event, at, source, done = item
+            _, _, _, event, at, source, done = item
             self.posted += 1
             if done is None:
                 self.session.post(event, at, source)
@@ -253,12 +266,16 @@ class SessionIntake(ClosedOnExit):
                 except Exception as e:  # noqa: BLE001 - its sender answers it
                     done.set_exception(e)
             return
-        kind, _, said, at, done = item
+        kind, replaced, _, said, at, done = item
         if done is not None and not done.set_running_or_notify_cancel():
             return
         script = self._read(said)
         if script is None:
             return
+        kept = _kept_of(script) if replaced else None
+        if kept is not None:  # another take-over waits: this one would be replaced as it started
+            self.dropped += 1
+            script = kept
         if kind == "queue" and (self.waiting or not self._free()):
             if len(self.waiting) >= self.max_queue:
                 self.log("warn", f"refused a queued script: the queue is full ({self.max_queue} scripts)")
@@ -327,11 +344,16 @@ class SessionIntake(ClosedOnExit):
         self._logged = self.session.logged
         for line in lines:
             if "replaced" in line.text or "stopped:" in line.text or "timed out" in line.text:
-                self.log("info", line.text)
+                self._forward(line.at, line.text)
 
-
-def _let_go(done: Optional[Future]) -> None:
-    """A take-over replaced before it was read: its sender is answered as if it had been taken,
-    as it was, and replaced the moment it started."""
-    if done is not None and done.set_running_or_notify_cancel():
-        done.set_result(None)
+    def _forward(self, at: float, text: str) -> None:
+        """One line of a kind a second at most (a `forever` of waits that time out repeats its
+        line every round): the repeats are counted, and the count goes with the next one shown."""
+        last, hidden = self._forwarded.get(text, (None, 0))
+        if last is not None and at - last < 1.0:
+            self._forwarded[text] = (last, hidden + 1)
+            return
+        if len(self._forwarded) > 1000:  # texts that name a line or a time: forget the old ones
+            self._forwarded.clear()
+        self._forwarded[text] = (at, 0)
+        self.log("info", text + (f" ({hidden} more like it in the second before)" if hidden else ""))

@@ -130,6 +130,12 @@ def resting(session: LiveSession) -> bool:
 def _rest(session: LiveSession, script: n.Script, evented: bool) -> float:
     """When the session comes to rest, stepping it from its clock."""
     while not resting(session):
+        active = session.active
+        if active is not None and active.runner.forever:  # only a duration ends it
+            line = next(f.forever.pos.line for f in active.runner.frames if f.forever is not None)
+            raise NeverRests(
+                f"'forever' on line {line} never ends once {active.label} runs it; give --duration"
+            )
         due = session.next_due()
         if due is None:
             break

@@ -1,5 +1,5 @@
 """The whole-script checks of reacting: where handlers, waits and signals may be, what never runs
-after a `forever`, a `forever` that would spin, a handler's length.
+after a `forever`, a `forever` that would spin, a handler's length, how many handlers a face keeps.
 
 checker.py calls `check_reactions` once the definitions are known not to recurse.
 """
@@ -38,9 +38,13 @@ def check_reactions(
         if any(_waits(s, waiting) for s in _inside(definitions[name].body)):
             waiting.add(name)
     seen: Dict[Tuple[str, str, float], int] = {}
+    handlers = every = 0
     for statement in body:
         if isinstance(statement, n.On):
             _handler(statement, measure, seen, out)
+            handlers += 1
+            every += statement.event.kind == "every"
+            _too_many(statement, handlers, every, out)
         if isinstance(statement, n.BLOCKS):
             for inner in _inside(statement.body):
                 if isinstance(inner, n.On):
@@ -135,6 +139,15 @@ def _spinning(forever: n.Forever, waiting: set, measure: Measure, out: List[Diag
         "'forever' would repeat without end in no time: its body needs a statement that takes time, "
         "or a 'wait until'",
     )
+
+
+def _too_many(handler: n.On, handlers: int, every: int, out: List[Diagnostic]) -> None:
+    """The handler past what a face keeps (`LIMITS.max_handlers`, `LIMITS.max_every` of them by
+    the clock): the live session would refuse the script whole."""
+    if handlers == LIMITS.max_handlers + 1:
+        _error(out, handler, f"more handlers than the {LIMITS.max_handlers} a face keeps")
+    if every == LIMITS.max_every + 1 and handler.event.kind == "every":
+        _error(out, handler, f"more 'every' handlers than the {LIMITS.max_every} a face keeps in time")
 
 
 def _after_forever(sequence: Sequence[Any], out: List[Diagnostic]) -> None:

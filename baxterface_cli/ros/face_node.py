@@ -82,7 +82,12 @@ class FaceNode:
             refusal=f"this face node reads no recordings; start it with {recordings_hint(link.version)}",
         )
         self.session = LiveSession(
-            start=sleep_face(), idle=settings.idle, now=time.monotonic(), recordings=recordings, seed=None
+            start=sleep_face(),
+            idle=settings.idle,
+            now=time.monotonic(),
+            recordings=recordings,
+            seed=None,
+            keep_up=True,
         )
         self.loop = FaceLoop(link, self.session, settings, renderer, self.speaker, self.log)
         self.intake = self.loop.intake

@@ -52,7 +52,7 @@ def stream_live(
     with open_link(version, "baxterface_stream", argv, anonymous=True, leaving="streamed") as link:
         log = Backlog(link.log)
         speaker = open_speaker(audio or default_audio(version), link, log.warn, "--audio")
-        session = LiveSession(now=time.monotonic(), **(session_options or {}))
+        session = LiveSession(now=time.monotonic(), keep_up=True, **(session_options or {}))
         loop = FaceLoop(link, session, settings, renderer, speaker, log, filename=script.filename)
 
         def heard(msg: Any) -> None:  # display_chatter: the signals only

@@ -55,7 +55,7 @@ class ScreenFace:
     ) -> None:
         self.clock = clock
         self.lock = threading.Lock()
-        self.session = LiveSession(None, seed=seed, now=clock(), start=FaceState(), idle=idle)
+        self.session = LiveSession(None, seed=seed, now=clock(), start=FaceState(), idle=idle, keep_up=True)
         self.live = self.session.face
         self.ready: Callable[[], None] = lambda: None  # the server's: a step began, draw it now
         self.log: Callable[[str], None] = lambda text: None  # the server's log

@@ -80,7 +80,7 @@ def test_a_script_past_the_handlers_a_face_keeps_is_refused_whole_and_changes_no
     many = "\n".join(f"on signal s{i} {{ blink }}" for i in range(LIMITS.max_handlers))
     with pytest.raises(ScriptError) as refused:
         s.run(parse(many, "many.face"), 1.0)
-    assert f"more than the {LIMITS.max_handlers} it keeps" in refused.value.summary()
+    assert f"more handlers than the {LIMITS.max_handlers} a face keeps: it has 1" in refused.value.summary()
     assert [h.label for h in s.handlers] == ["line 1 'on touch'"]
     # Replacing handlers is not adding them: the same events sent again are taken.
     s.run(parse("\n".join(f"on signal s{i} {{ blink }}" for i in range(LIMITS.max_handlers - 1)), "m"), 2.0)
@@ -93,7 +93,7 @@ def test_more_every_handlers_than_a_face_keeps_in_time_are_refused():
     many = "\n".join(f"on every {0.1 + i / 1000:g}s {{ blink }}" for i in range(LIMITS.max_every + 1))
     with pytest.raises(ScriptError) as refused:
         s.run(parse(many, "every.face"), 1.0)
-    assert f"more than {LIMITS.max_every} 'every' handlers" in refused.value.summary()
+    assert f"more 'every' handlers than the {LIMITS.max_every} a face keeps" in refused.value.summary()
     assert len(s.handlers) == 1
 
 
@@ -115,3 +115,17 @@ def test_a_handler_keeps_only_the_definitions_it_calls():
     s.post(n.Event("touch"), 1.0)
     s.advance(5.0)
     assert lines(s, "'on touch' ends")
+
+
+def test_a_recorded_run_whose_handler_runs_a_forever_asks_for_a_duration():
+    # It ran on to the step bound at 500 s of run, and said so as if the rounds were the fault.
+    from baxterface_cli.engine.session_run import NeverRests
+    from baxterface_cli.language.event_trace import parse_trace
+
+    script = parse("on signal go { forever { wait until face seen timeout 0.5s } }", "h.face")
+    with pytest.raises(NeverRests) as never:
+        run_over(script, parse_trace("0.5 signal go", "go.events"))
+    said = "'forever' on line 1 never ends once line 1 'on signal go' runs it; give --duration"
+    assert str(never.value) == said
+    ended = run_over(script, parse_trace("0.5 signal go", "go.events"), duration=3.0)
+    assert len([line for line in ended.log if "timed out" in line.text]) == 5

@@ -54,11 +54,42 @@ def test_a_handler_sent_installs_itself_and_a_signal_sent_runs_it(live):
 def test_a_handler_sent_twice_replaces_the_first_and_says_so(live):
     session, intake, _, logged = live
     intake.submit("on button ok { sad }")
-    intake.submit("on button ok { happy }")  # a take-over replaces one still unread: submit apart
-    eventually(lambda: intake.idle() and session.handlers)
+    intake.submit("on button ok { happy }")  # back to back: each is taken, in the order sent
     intake.submit("on button ok { angry }")
-    eventually(lambda: ("info", "button ok: its handler replaced") in logged)
+    # Said once: the same line again within a second is counted, and told with the next one.
+    eventually(lambda: ("info", "button ok: its handler replaced") in logged and intake.idle())
     assert [h.on.body[0].name for h in session.handlers] == ["angry"]  # one handler, the newest
+
+
+def test_handler_lines_sent_back_to_back_are_all_installed_and_a_take_over_between_them_is_let_go(live):
+    # 50 handler lines through `send --stdin` installed 2 (the first and the last): a handler-only
+    # command was taken for a take-over, and one still unread was replaced by the next.
+    session, intake, _, _ = live
+    with session.lock:  # all sent before the worker hands the first over
+        for i in range(50):
+            intake.submit(f"on signal s{i} {{ nod }}")
+            if i == 10:
+                intake.submit("sad; wait 5s")  # a take-over that a later one replaces before it starts
+        intake.submit("happy")
+    eventually(lambda: intake.idle() and len(session.handlers) == 50)
+    assert sorted(h.on.event.arg for h in session.handlers) == sorted(f"s{i}" for i in range(50))
+    assert intake.dropped == 1  # "sad; wait 5s", whose main statements never started
+    assert session.main is not None and session.main.script.source == "happy"
+
+
+def test_commands_past_the_unread_bound_are_refused_with_a_reason():
+    session = LiveSession(idle=False)
+    intake = SessionIntake(session, lambda: 0.0, max_unread=3)
+    with intake:
+        session.lock.acquire()  # the worker cannot hand anything over meanwhile
+        try:
+            answers = [intake.submit(f"on signal s{i} {{ nod }}") for i in range(6)]
+        finally:
+            session.lock.release()
+        refused = [a for a in answers if a is not None]
+        assert refused and all(a == "refused a command: 3 are already waiting to be read" for a in refused)
+        assert intake.settled(60.0)
+    assert len(session.handlers) == 6 - len(refused)
 
 
 def test_a_plain_command_takes_over_and_a_queued_one_waits_for_the_main_script(live):
@@ -119,3 +150,16 @@ def test_the_frame_loop_never_waits_for_the_worker(live):
     finally:
         release.set()
         thread.join()
+
+
+def test_a_line_repeated_every_round_is_forwarded_once_a_second_with_its_count(live):
+    # A `forever` of waits that time out at once logged fifty lines a second to the node's log.
+    session, intake, clock, logged = live
+    intake.submit("forever { wait until signal x timeout 0.000001s }")
+    eventually(lambda: intake.idle() and session.main is not None)
+    clock.now += 5.0
+    intake.post(n.Event("touch"))  # the worker goes on to the clock's time
+    eventually(lambda: intake.idle() and session.clock >= clock.now)
+    timed = [text for _, text in logged if "timed out" in text]
+    assert 4 <= len(timed) <= 6, timed
+    assert timed[-1].endswith("more like it in the second before)")

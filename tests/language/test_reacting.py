@@ -173,6 +173,15 @@ def test_a_handler_counts_on_its_own_against_the_length_limit():
     parse("wait 3000s\non face seen { wait 3000s }")  # each within the hour
 
 
+def test_a_script_with_more_handlers_than_a_face_keeps_is_refused_at_the_first_past_the_bound():
+    # 1,000 `on every 0.1000XXs` lines passed `check` and froze the screen and the node.
+    every = "\n".join(f"on every {0.1 + i / 1e6:.6f}s {{ blink }}" for i in range(20))
+    assert errors(every) == ["t.face:17:1: error: more 'every' handlers than the 16 a face keeps in time"]
+    signals = "\n".join(f"on signal s{i} {{ blink }}" for i in range(300))
+    assert errors(signals) == ["t.face:257:1: error: more handlers than the 256 a face keeps"]
+    parse("\n".join(f"on signal s{i} {{ blink }}" for i in range(256)))
+
+
 def test_a_button_without_a_navigator_takes_any_navigators_and_wheel_either_turn():
     assert matches(n.Event("button", "ok"), n.Event("button", "left ok"))
     assert not matches(n.Event("button", "left ok"), n.Event("button", "right ok"))

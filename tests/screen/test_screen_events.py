@@ -142,3 +142,27 @@ def test_it_stops_on_sigterm_while_a_forever_of_millisecond_rounds_plays(tmp_pat
         eventually(lambda: state(screen)["face"]["eye_x"] != 0)
         assert screen.stop(signal.SIGTERM, timeout=30) == 128 + signal.SIGTERM
         assert screen.log()[-1] == "baxterface screen: stopped"
+
+
+@pytest.mark.parametrize(
+    "spin",
+    [
+        "forever { wait until signal x timeout 0.000001s }",
+        "forever { wait 0.00001s }",
+        "on signal go { forever { wait until face seen timeout 0.000001s } }\nsignal go",
+    ],
+)
+def test_a_script_of_rounds_that_end_at_once_leaves_the_face_answering(tmp_path, spin):
+    import signal
+
+    # Each of these passed `check` and froze the screen: no answer to anything after it, a core
+    # busy, SIGTERM ignored. Now each round lasts a fiftieth of a second at least.
+    with running_screen(tmp_path, "--no-idle") as screen:
+        assert screen.json("POST", "/api/command", spin)[0] == 200
+        for _ in range(3):
+            status, answer = screen.json("POST", "/api/event", "touch")
+            assert status == 200 and answer["event"] == "touch", answer
+            assert state(screen)["face"] is not None
+        assert screen.json("POST", "/api/command", "sad")[0] == 200
+        eventually(lambda: state(screen)["face"]["emotion"] == "sad")
+        assert screen.stop(signal.SIGTERM, timeout=30) == 128 + signal.SIGTERM
