@@ -1,8 +1,8 @@
 """The studio (and the screen) under hostile traffic: does the preview keep moving, stay up, stop.
 
-    python bench/bench_hostile_studio.py [flood] [rebinding] [half-open] [pages]
+    python bench/bench_hostile_studio.py [flood] [presses] [rebinding] [half-open] [pages]
 
-With no phase named, all four run, in that order.
+With no phase named, all five run, in that order.
 
 flood:
 
@@ -33,6 +33,11 @@ half-open: at the studio and at the screen, started with `ulimit -n 1024`,
 1,100 connections that never send a byte; then a well-behaved client asks
 GET /api/state once a second for 40 s: how many answers it gets, the first
 one after how long, and how much the server wrote to its log.
+
+presses (issue 43: 9a): the studio (idle on) and 1,000 presses of the default panel's buttons
+posted back to back over one keep-alive connection: the median time of the 20 presses around
+the 1st, 100th, 500th and 1,000th, each as a ratio to the first 20's (the baseline, measured in
+the same run), and the p95 over all of them.
 
 pages: the screen at --fps 30 with 250 pages (WebSockets) open, commands
 posted back to back for 10 s: frames a second each page receives, and the
@@ -277,7 +282,42 @@ def flood_phase() -> None:
         print(f"{name}, a page connected: exited in {took:.2f} s, exit code {code}, page closed {closed}")
 
 
-PHASES = {"flood": flood_phase}
+def presses_phase(count: int = 1000) -> None:
+    from baxterface_cli.studio.panel import load_panel
+
+    commands = [b.command for b in load_panel() if not b.command.startswith("follow")]
+    folder = Path(tempfile.mkdtemp(prefix="bench-hostile-presses-"))
+    (folder / "face.bax").write_text("happy\n", encoding="utf-8")
+    process, port = start(folder / "face.bax", folder / "studio.log")
+    took = []
+    try:
+        connection = http.client.HTTPConnection("127.0.0.1", port, timeout=60)
+        headers = {"Origin": f"http://127.0.0.1:{port}"}
+        for i in range(count):
+            began = time.perf_counter()
+            body = commands[i % len(commands)].encode()
+            connection.request("POST", "/api/command", body=body, headers=headers)
+            response = connection.getresponse()
+            response.read()
+            took.append((time.perf_counter() - began) * 1000)
+            if response.status == 400:  # the session at its size limit: cleared, as a user would
+                connection.request("POST", "/api/session/clear", headers=headers)
+                connection.getresponse().read()
+    finally:
+        process.terminate()
+        process.wait(timeout=30)
+        shutil.rmtree(folder)
+    baseline = statistics.median(took[:20])
+    print(f"presses: {count} of the default panel's buttons, back to back, one connection")
+    print(f"  1st (median of the first 20): {baseline:.1f} ms (the baseline)")
+    for n in (100, 500, 1000):
+        if n <= count:
+            around = statistics.median(took[max(0, n - 10) : n + 10])
+            print(f"  {n}th (median of the 20 around it): {around:.1f} ms, {around / baseline:.2f}x the 1st")
+    print(f"  p95 over all: {sorted(took)[int(0.95 * len(took))]:.1f} ms")
+
+
+PHASES = {"flood": flood_phase, "presses": presses_phase}
 
 
 def main() -> None:

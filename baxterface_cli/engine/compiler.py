@@ -362,6 +362,7 @@ def compile_script(
     speak: Optional[Speaker] = None,
     recordings: Optional[Recordings] = None,
     carry: Optional[Carry] = None,
+    rng: Optional[random.Random] = None,
 ) -> Timeline:
     """Compile a parsed script; the same script and seed give the same timeline.
 
@@ -373,6 +374,8 @@ def compile_script(
     path in it (`speech.recordings.RecordingError` for a file it cannot say):
     give texts from elsewhere (a network) a confined one. `carry` lets the statements begun in
     a timeline this one takes over from finish what they started (a live face's commands).
+    `rng`, in place of `seed`: the random stream to draw on, left where this script's draws end
+    (a script compiled in pieces, as the studio's session is, draws what it would whole).
     """
     refused = not_here(script, "a timeline compiled alone (compile_script)")
     if refused is not None:  # handlers and waits need the live session (engine/live_session.py)
@@ -380,7 +383,7 @@ def compile_script(
     if crossfade is None:
         crossfade = 0.0 if script.legacy else CROSSFADE
     compiler = _Compiler(
-        script, random.Random(seed), start or FaceState(), crossfade, speak or _engine_say, recordings
+        script, rng or random.Random(seed), start or FaceState(), crossfade, speak or _engine_say, recordings
     )
     if carry is not None:
         carry_over(compiler, carry)

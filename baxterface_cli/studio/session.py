@@ -1,27 +1,28 @@
 """A live session: commands pressed at times, kept as the script that replays them.
 
-The session *is* a script. Each press is placed at its time: one after
-another with `wait`s between them while each has finished before the next;
-presses that overlap go into a `together`, each after a `wait` for its own
-start, so a move pressed later takes over its part from where it has got to
-(the language's rule) while the rest carries on. The exported file replays
-the session, given the seed in its first line.
+The session *is* a script (session_text.py writes it): each press placed at its time, one after
+another with `wait`s between them while each has finished before the next; presses that overlap
+go into a `together`, each after a `wait` for its own start, so a move pressed later takes over
+its part from where it has got to (the language's rule) while the rest carries on. The exported
+file replays the session, given the seed in its first line.
 
-A press must cost the same at the 10,000th as at the first, so the preview
-does not compile the whole session again at each one: it plays the session in
-parts of at most `PART_PRESSES` presses, each compiled (as that part's
-script) from the face and robot status the part before left. A part ends
-where the face has come to rest, nothing under way, so the next starts from
-exactly that face; only a flood of overlapping presses, `PART_MOST` of them
-without a pause, is cut where it is, and what the part before began finishes
-in the next (a live face's take-over, engine/take_over.py), as it does when
-the export replays the session.
+A press must cost the same at the 10,000th as at the first, so the preview does not compile the
+session again at each one: it plays it in parts, each compiled (as that part's script) from the
+face, the robot status, the random draws and the words still being said that the part before
+left. A press starts a part of its own wherever that loses nothing: where the face has come to
+rest, or where every statement pressed before it has begun (what they began goes on in the new
+part, as a live face's take-over lets it, engine/take_over.py, which is what the export's
+`together` does with a statement under way). So a press of one statement, the panel's usual,
+compiles that statement alone. Only a statement not begun yet (the later steps of a press of
+several, a `repeat`) keeps the presses after it in its part, for at most `PART_MOST` presses: a
+flood past that is cut where it is, what had begun going on, what had not dropped.
 """
 
 from __future__ import annotations
 
 import random
 import time
+from dataclasses import replace
 from typing import List, NamedTuple, Optional, Tuple
 
 from ..core.face_constants import LIMITS
@@ -30,50 +31,53 @@ from ..engine.compiler import compile_script
 from ..engine.effects import RobotStatus
 from ..engine.session_program import not_here
 from ..engine.take_over import Carry
-from ..engine.timeline import Timeline
+from ..engine.timeline import CROSSFADE, Said, Timeline
 from ..language.diagnostics import Diagnostic, ScriptError
 from ..language.parser import parse
-from ..language.source import PIECE
 from ..language.syntax_tree import Script
 from ..speech.recordings import RecordingError, Recordings
+from .session_text import Press, TextSize, body
+
+__all__ = ["PART_MOST", "Press", "Session", "Stale"]
 
 
 class Stale(Exception):
     """The session changed while a press was being prepared: prepare it again."""
 
 
-class Press(NamedTuple):
-    at: float  # seconds from the session's first press, to the millisecond
-    command: str
-    duration: float  # how long the command runs on its own
-
-
-PART_PRESSES = 20  # presses a part of the session holds before the next pause starts another
-# A flood of overlapping presses starts another part here, pause or not, the moves begun going on
-# (as a live face's take-over): a press compiles at most this many, at the 10,000th as at the 50th.
+# Presses a part holds at most while a statement in it has not begun: a flood of presses of
+# several statements each is cut here, pause or not (what has not begun is dropped).
 PART_MOST = 50
-HEADER_BYTES = 200  # the export's two comment lines, generously
-PART_BYTES = 16  # the `wait` that starts a part in the export
+HEADER_BYTES, HEADER_PIECES = 200, 4  # the export's two comment lines, generously
 SHOWN_PRESSES = 200  # the latest presses a press's answer lists (the export has them all)
 
 
 class Part(NamedTuple):
-    """A run of presses the preview compiles as one script: from `offset` seconds into the session,
-    from the face `start` and the robot status `robot` the part before left."""
+    """A run of presses the preview compiles as one script: from `offset` seconds into the
+    session, from the face `start`, the robot status `robot` and the random stream `draws` the
+    part before left."""
 
     offset: float
     presses: List[Press]  # times from the session's first press, as exported
     timeline: Timeline  # times from the part's own first press
     start: FaceState
     robot: RobotStatus
-    size: Tuple[int, int] = (0, 0)  # its text: bytes, and pieces as `_check_whole` counts them
+    draws: tuple  # random.Random's state where this part's draws begin
     carry: Optional[Carry] = None  # what the part before began and still finishes in this one
+    heard: Tuple[Said, ...] = ()  # words the parts before are still saying, on this part's clock
+    after: float = 0.0  # when what the parts before pressed has played out, in the session's time
+    drawn: Optional[tuple] = None  # random.Random's state where this part's draws end
+    crossfade: Optional[float] = None  # what it was compiled with (session.legacy's), None: not yet
 
     @property
     def end(self) -> float:
-        """When everything pressed in this part has played out, in the session's time."""
+        """When everything pressed so far has played out, in the session's time."""
         ends = [p.at + p.duration for p in self.presses]
-        return max([self.offset + self.timeline.duration, *ends])
+        return max([self.offset + self.timeline.duration, self.after, *ends])
+
+    def begun(self, t: float) -> bool:
+        """Has every statement pressed in this part begun by `t` (the part's time)?"""
+        return all(span.start <= t for span in self.timeline.spans)
 
 
 class Pending(NamedTuple):
@@ -84,12 +88,8 @@ class Pending(NamedTuple):
     part: Part
     started: float
     at: float
-    closed_size: Tuple[int, int]  # the parts before it, as `Session.closed_size`
-
-
-def seconds(t: float) -> str:
-    """A time as a script writes it: `1.25s`, to the millisecond."""
-    return f"{t:.3f}".rstrip("0").rstrip(".") + "s"
+    size: TextSize  # the session's text with the press
+    legacy: bool  # every press so far spelled as the old node's commands, as `Session.legacy`
 
 
 class Session:
@@ -108,12 +108,18 @@ class Session:
         self.started: Optional[float] = None  # the caller's clock at the first press
         self.began_at = ""  # wall-clock time of the first press, for the header
         self.part = self._empty_part()
-        self.closed_size = (0, 0)  # the parts before the one playing: bytes and pieces of their text
+        self.size = TextSize()  # the session's text: its size, as presses add to it
+        # Every press spelled as the old node's commands: while the session's text is only those,
+        # one after another, it is a legacy script, which cuts between parts (no crossfade).
+        self.legacy = True
         self.generation = 0  # counts the changes, so that a press prepared meanwhile is known stale
         self.compiled_presses = 0  # presses compiled for the preview so far: what a press costs
 
     def _empty_part(self) -> Part:
-        return Part(0.0, [], compile_script(parse("", self.filename), self.seed), FaceState(), RobotStatus())
+        draws = random.Random(self.seed).getstate()
+        return Part(
+            0.0, [], compile_script(parse("", self.filename), self.seed), FaceState(), RobotStatus(), draws
+        )
 
     @property
     def timeline(self) -> Timeline:
@@ -122,7 +128,7 @@ class Session:
 
     @property
     def duration(self) -> float:
-        return self.part.offset + self.part.timeline.duration
+        return self.part.end
 
     def press(self, text: str, now: float) -> float:
         """Add `text` at `now` (the caller's clock); its time in the session. ScriptError if bad.
@@ -134,34 +140,41 @@ class Session:
     def prepare(self, text: str, now: float) -> Pending:
         """The session with `text` pressed at `now`, parsed and compiled, but not yet taken.
 
-        This is the slow part (the part of the session now playing compiles
-        again, at most `PART_MOST` presses), so the studio does it without
-        holding its lock; the session itself is only read.
+        This is the slow part (the part of the session the press falls in compiles, usually
+        the press alone), so the studio does it without holding its lock; the session itself
+        is only read.
         """
         generation, part, started = self.generation, self.part, self.started
         command = parse(text, "<command>")
         duration = self._compile(command).duration
         at = 0.0 if started is None else round(now - started, 3)
         press = Press(at, text.strip(), duration)
-        pressed = [*part.presses, press]
+        size = self._check_whole(press)
+        legacy = self.legacy and command.legacy
+        # Each part is compiled as the whole session's text is, whatever its own text looks like.
+        crossfade = 0.0 if legacy and size.plain else CROSSFADE
         if not part.presses:  # the session's first press: its first part
             part = part._replace(offset=at)
-        elif len(part.presses) >= PART_MOST or (len(part.presses) >= PART_PRESSES and at >= part.end):
-            part, pressed = self._next_part(part, at), [press]
-        closed = self.closed_size
-        if part is not self.part and self.part.presses:  # the part before is closed now
-            closed = (closed[0] + self.part.size[0] + PART_BYTES, closed[1] + self.part.size[1] + 2)
+        elif part.crossfade == crossfade and (
+            at >= part.end or part.begun(at - part.offset) or len(part.presses) >= PART_MOST
+        ):
+            part = self._next_part(part, at)
+        pressed = [*part.presses, press]
         shifted = [p._replace(at=round(p.at - part.offset, 3)) for p in pressed]
-        text = "\n".join(_body(shifted))
-        size = self._check_whole(closed, text, at + duration)
         script = self._parse(self.text_of(shifted))
-        timeline = self._compile(script, part.start, part.carry)
+        draws = random.Random()
+        draws.setstate(part.draws)
+        timeline = self._compile(script, part.start, part.carry, draws, crossfade)
+        if part.heard:  # the words the parts before are still saying: heard, and the mouth says them
+            ends = [timeline.duration] + [said.end for said in part.heard]
+            timeline = replace(timeline, speech=[*part.heard, *timeline.speech], duration=max(ends))
         self.compiled_presses += len(pressed)
-        part = part._replace(presses=pressed, timeline=timeline, size=size)
-        return Pending(generation, press, part, now if started is None else started, at, closed)
+        part = part._replace(presses=pressed, timeline=timeline, drawn=draws.getstate(), crossfade=crossfade)
+        return Pending(generation, press, part, now if started is None else started, at, size, legacy)
 
     def _next_part(self, part: Part, at: float) -> Part:
-        """A new part from `at`: the face and the robot status the part before leaves there."""
+        """A new part from `at`: the face, the robot status, the random draws and the words the part
+        before leaves there."""
         t = at - part.offset
         robot = part.timeline.status(t, part.robot)
         # Their times were the old part's; what is over stays over, what goes on goes on.
@@ -169,20 +182,30 @@ class Session:
         robot = robot._replace(
             nodding_until=robot.nodding_until + shift, saying_until=robot.saying_until + shift
         )
-        return Part(at, [], part.timeline, part.timeline.sample(t), robot, carry=Carry(part.timeline, t))
+        heard = tuple(said._replace(at=said.at - t) for said in part.timeline.sounding(t))
+        return Part(
+            at,
+            [],
+            part.timeline,
+            part.timeline.sample(t),
+            robot,
+            part.drawn or part.draws,
+            carry=Carry(part.timeline, t),
+            heard=heard,
+            after=part.end,
+        )
 
-    def _check_whole(self, closed: Tuple[int, int], text: str, seconds: float) -> Tuple[int, int]:
-        """ScriptError past a script's limits, which the session as a whole keeps to, so that `play`
-        takes the export: the parts before (`closed`: bytes and pieces) and this one's `text`, whose
-        bytes and pieces it returns."""
-        own = (len(text.encode("utf-8")), sum(1 for _ in PIECE.finditer(text)))
-        size, pieces = own[0] + closed[0] + HEADER_BYTES, own[1] + closed[1]
-        if seconds > LIMITS.max_seconds:
+    def _check_whole(self, press: Press) -> TextSize:
+        """The session's text with `press`: ScriptError past a script's limits, which the session as
+        a whole keeps to, so that `play` takes the export."""
+        size = self.size.add(press)
+        text, pieces = size.total
+        if press.at + press.duration > LIMITS.max_seconds:
             why = f"run past {LIMITS.max_seconds / 60:.0f} minutes, the longest a script may run"
-        elif size > LIMITS.max_bytes or pieces > LIMITS.max_pieces:
+        elif text + HEADER_BYTES > LIMITS.max_bytes or pieces + HEADER_PIECES > LIMITS.max_pieces:
             why = f"grow past {LIMITS.max_bytes // 1024} KiB, the largest a script may be"
         else:
-            return own
+            return size
         message = f"the session would break: it would {why}; export it and clear it to go on"
         raise ScriptError([Diagnostic(0, 0, message)], "<command>")
 
@@ -193,20 +216,33 @@ class Session:
         if self.started is None:
             self.began_at = time.strftime("%Y-%m-%d %H:%M:%S")
         self.presses.append(pending.press)
-        self.closed_size = pending.closed_size
+        self.size, self.legacy = pending.size, pending.legacy
         self.part, self.started = pending.part, pending.started
         self.generation += 1
         return pending.at
 
     def _compile(
-        self, script: Script, start: Optional[FaceState] = None, carry: Optional[Carry] = None
+        self,
+        script: Script,
+        start: Optional[FaceState] = None,
+        carry: Optional[Carry] = None,
+        draws: Optional[random.Random] = None,
+        crossfade: Optional[float] = None,
     ) -> Timeline:
         # A press plays in the session, which is compiled: a script that reacts runs in the editor.
         refused = not_here(script, "a press in the studio's panel (the editor's script does)")
         if refused is not None:
             raise refused
         try:
-            return compile_script(script, self.seed, start=start, recordings=self.recordings, carry=carry)
+            return compile_script(
+                script,
+                self.seed,
+                start=start,
+                recordings=self.recordings,
+                carry=carry,
+                rng=draws,
+                crossfade=crossfade,
+            )
         except RecordingError as e:  # a press that says a recording it cannot
             raise ScriptError([e.diagnostic()._replace(line=0, column=0)], "<command>") from None
 
@@ -225,7 +261,7 @@ class Session:
     def clear(self) -> None:
         self.generation += 1
         self.presses, self.started, self.began_at = [], None, ""
-        self.part, self.closed_size = self._empty_part(), (0, 0)
+        self.part, self.size, self.legacy = self._empty_part(), TextSize(), True
 
     def position(self, now: float) -> float:
         """Seconds into the session at `now`."""
@@ -242,7 +278,7 @@ class Session:
             f"{len(presses)} press" + ("" if len(presses) == 1 else "es"),
             f"# replays exactly with: baxterface play {filename or self.filename} --seed {self.seed}",
         ]
-        return "\n".join(header + _body(presses)) + "\n"
+        return "\n".join(header + body(presses)) + "\n"
 
     def as_json(self, whole: bool = False) -> dict:
         """The latest `SHOWN_PRESSES` presses and their count; `whole`: every press, and the text.
@@ -260,40 +296,3 @@ class Session:
 
     def __len__(self) -> int:
         return len(self.presses)
-
-
-def _body(presses: List[Press]) -> List[str]:
-    lines: List[str] = []
-    clock = 0.0  # where the text has got to, as it will play: waits are rounded to the millisecond
-    for group in _overlapping(presses):
-        start = group[0].at
-        if start - clock >= 0.0005:
-            lines.append(f"wait {seconds(start - clock)}")
-            clock += float(seconds(start - clock)[:-1])
-        if len(group) == 1:
-            lines.extend(group[0].command.splitlines())
-        else:
-            lines.append("together {")
-            lines.extend("  " + line for line in group[0].command.splitlines())
-            for p in group[1:]:
-                lines.append("  repeat 1 {")
-                lines.append(f"    wait {seconds(p.at - start)}")
-                lines.extend("    " + line for line in p.command.splitlines())
-                lines.append("  }")
-            lines.append("}")
-        clock += max(p.at - start + p.duration for p in group)
-    return lines
-
-
-def _overlapping(presses: List[Press]) -> List[List[Press]]:
-    """Presses in runs where each starts before the ones before it in its run have all finished."""
-    groups: List[List[Press]] = []
-    end = float("-inf")
-    for p in presses:
-        if groups and p.at < end:
-            groups[-1].append(p)
-            end = max(end, p.at + p.duration)
-        else:
-            groups.append([p])
-            end = p.at + p.duration
-    return groups
