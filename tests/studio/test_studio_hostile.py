@@ -62,6 +62,14 @@ def test_the_session_knows_its_size_without_writing_its_text():
         assert session.size.total[1] == sum(1 for _ in PIECE.finditer(body))
 
 
+def test_a_number_of_thousands_of_digits_is_refused_in_the_apis_own_words(folder):
+    # Issue 43: Python's own limit on such integers answered, naming set_int_max_str_digits.
+    with running_studio(folder / "show.face") as studio:
+        code, answer = studio.json("POST", "/api/touch", '{"x": 1' + "0" * 4999 + ', "y": 0.5}')
+    assert code == 400
+    assert answer["error"] == "the body has a number of 5000 digits; a number here has at most 100"
+
+
 def test_check_reports_the_recordings_check_reports(folder):
     (folder / "outside").mkdir()
     with running_studio(folder / "show.face") as studio:
