@@ -484,6 +484,18 @@ def test_send_stdin_sends_a_hundred_lines_in_order(ros, node):
     assert report(state, test=lambda r: r["eye_x"] == 33.0)["eye_y"] == -7.0
 
 
+def test_send_stdin_of_fifty_handler_lines_installs_every_one(ros):
+    # It said "sent" 50 times and the node installed 2, the first and the last: each handler-only
+    # command was taken for a take-over, and one still unread was replaced by the next.
+    with running_node(ros) as (proc, state):
+        lines = "".join(f"on signal s{i} {{ nod }}\n" for i in range(50))
+        run = baxterface("send", "--stdin", stdin=lines, env=ros)
+        assert run.code == 0, run.err
+        record = report(state, test=lambda r: len(r.get("handlers", {})) == 50, timeout=60.0)
+        assert sorted(record["handlers"]) == sorted(f"line 1 'on signal s{i}'" for i in range(50))
+        assert proc.poll() is None
+
+
 def test_queued_scripts_play_after_the_current_one(ros, node):
     import rospy
     from std_msgs.msg import String
