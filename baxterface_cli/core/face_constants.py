@@ -170,6 +170,13 @@ class Limits(NamedTuple):
     max_lag: float = 1.0
     max_say: int = 1000  # characters one `say` speaks: about a minute at the default rate
     max_recorded_text: int = 10_000  # the words of one recording (`say file ... text`): ten minutes' worth
+    # Hearing words (`on word`, `wait until word`; docs/speech.md): each second of sound heard costs
+    # work for every phrase, and for every phone of every way the dictionary spells it.
+    max_phrases: int = 32  # distinct phrases a script listens for
+    max_phones: int = 1000  # the phones of all the phrases listened for at once, every spelling counted
+    # `--hear FILE`: those phones times the recording's seconds (200 phones, about 20 short
+    # phrases, over ten minutes), about 20 s of the phrases' own work over the recogniser's.
+    max_phone_seconds: int = 120_000
     max_shown: int = 50  # diagnostics kept and printed; the rest are only counted
 
 

@@ -56,6 +56,7 @@ def check_reactions(
             _spinning(statement, waiting, measure, out)
     for sequence in _sequences(body):
         _after_forever(sequence, out)
+    _phrases(_everything(body), out)
 
 
 def _error(out: List[Diagnostic], node: Any, message: str, severity: str = "error") -> None:
@@ -181,3 +182,17 @@ def _handler(
     if over_limit(seconds):
         limit = length_in_words(LIMITS.max_seconds)
         _error(out, handler, f"the handler runs {length_in_words(seconds)}; the limit is {limit}")
+
+
+def _phrases(statements: Any, out: List[Diagnostic]) -> None:
+    """Listening costs work for every phrase in every second of sound heard (docs/speech.md): a
+    script listens for LIMITS.max_phrases phrases at most, said at the statement of the first past it."""
+    phrases: Dict[str, bool] = {}
+    for statement in statements:
+        event = getattr(statement, "event", None)
+        if isinstance(statement, (n.On, n.WaitUntil)) and event is not None and event.kind == "word":
+            if event.arg not in phrases and len(phrases) == LIMITS.max_phrases:
+                most = LIMITS.max_phrases
+                _error(out, statement, f"one phrase too many: a script listens for {most} phrases at most")
+                return
+            phrases[event.arg] = True

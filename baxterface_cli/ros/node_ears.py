@@ -67,6 +67,7 @@ class Ears(ClosedOnExit):
         self.spotter: Any = None
         self.words: List[str] = []
         self.unknown: List[str] = []  # phrases the model cannot spot, said once each
+        self._over: List[str] = []  # phrases past LIMITS.max_phones, said when they change
         self.shut = False  # the extra is missing: no spotter is ever made
         self._seen: Tuple[Any, ...] = ()
         self._stop = threading.Event()
@@ -178,31 +179,28 @@ class Ears(ClosedOnExit):
         return self.spotter
 
     def _spotter(self, words: List[str]) -> Any:
-        from ..speech.word_spotter import WordError, WordSpotter
-
-        def made(phrases: List[str]) -> Any:
-            return WordSpotter(
-                phrases, self._heard, clock=self.clock, speaking=self.speaking, barge_in=self.barge_in
-            )
+        from ..core.face_constants import LIMITS
+        from ..speech.word_spotter import WordSpotter, listenable
 
         try:
-            return made(words)
+            kept, unknown, over = listenable(words)
         except MissingTool as e:
             self.shut = True
             self.log("error", f"no words are heard: {e}")
             return None
-        except WordError:
-            pass
-        kept = []
-        for phrase in words:  # which phrase the model cannot spot: each is tried alone
-            try:
-                made([phrase]).close()
-                kept.append(phrase)
-            except WordError as e:
-                self.unknown.append(phrase)
-                self.log("warn", f'not listening for "{phrase}": {e}')
-        self.words = kept
-        return made(kept) if kept else None
+        for phrase, why in unknown:  # never listened for: said once
+            self.unknown.append(phrase)
+            self.log("warn", f'not listening for "{phrase}": {why}')
+        if over and over != self._over:  # listened for once handlers before them go
+            most = LIMITS.max_phones
+            phrases = ", ".join(f'"{phrase}"' for phrase in over)
+            self.log("warn", f"not listening for {phrases}: past {most} phones, every spelling counted")
+        self._over = over
+        if not kept:
+            return None
+        return WordSpotter(
+            kept, self._heard, clock=self.clock, speaking=self.speaking, barge_in=self.barge_in
+        )
 
     # -- what the face says
 

@@ -28,8 +28,9 @@ from typing import Any, Callable, Dict, List, NamedTuple, Optional, Sequence, Tu
 
 import numpy as np
 
+from ..core.face_constants import LIMITS
 from ..extras import need
-from .audio_files import EXTRA, read_sound
+from .audio_files import EXTRA, probe, read_sound
 
 RATE = 16000  # the English model's
 FRAME = 0.01  # pocketsphinx's frames: 100 a second
@@ -137,6 +138,12 @@ class WordSpotter:
         self.ignored: List[Heard] = []  # heard while the face spoke
         self._lock = threading.Lock()  # a microphone's thread feeds; `close` may come from another
         spellings = _spellings(ps.Decoder(lm=None, loglevel="FATAL"), self.words)
+        self.phones = sum(len(s) for spelled in spellings.values() for s in spelled)
+        if self.phones > LIMITS.max_phones:
+            raise WordError(
+                f"too much to listen for: {_phrases(self.words)} of {self.phones} phones, every "
+                f"spelling counted (the limit is {LIMITS.max_phones})"
+            )
         if method is None:
             from . import phoneme_recogniser
 
@@ -237,5 +244,43 @@ def spot_samples(
 
 
 def spot_file(path: str, words: Sequence[str], **options: Any) -> List[Heard]:
-    """The phrases heard in a recording (see `spot_samples`)."""
+    """The phrases heard in a recording (see `spot_samples`). Hearing costs work for each phone of
+    the phrases in each second of sound, so their product is bounded, from the recording's header
+    before it is read (WordError past LIMITS.max_phone_seconds)."""
+    seconds = probe(path)
+    spotter = WordSpotter(words, lambda word, at: None, **options)
+    spotter.close()
+    work = spotter.phones * seconds
+    if work > LIMITS.max_phone_seconds:
+        raise WordError(
+            f"{_phrases(spotter.words)} of {spotter.phones} phones, every spelling counted, over "
+            f"{seconds:.0f} s of sound is too much to listen for ({work:,.0f} phone-seconds; the limit "
+            f"is {LIMITS.max_phone_seconds:,})"
+        )
     return spot_samples(read_recording(path), words, **options)
+
+
+def _phrases(words: Sequence[str]) -> str:
+    return f"{len(words)} phrase" + ("" if len(words) == 1 else "s")
+
+
+def listenable(words: Sequence[str]) -> Tuple[List[str], List[Tuple[str, str]], List[str]]:
+    """The phrases a spotter may listen for at once, in order: those the model can spot while their
+    phones stay within LIMITS.max_phones; each it cannot, with why; and those past the phones."""
+    lookup = _pocketsphinx().Decoder(lm=None, loglevel="FATAL")
+    kept: List[str] = []
+    unknown: List[Tuple[str, str]] = []
+    over: List[str] = []
+    phones = 0
+    for phrase in dict.fromkeys(phrase_of(w) for w in words if w.strip()):
+        try:
+            count = sum(len(s) for s in _spellings(lookup, [phrase])[phrase])
+        except WordError as e:
+            unknown.append((phrase, str(e)))
+            continue
+        if phones + count > LIMITS.max_phones:
+            over.append(phrase)
+        else:
+            kept.append(phrase)
+            phones += count
+    return kept, unknown, over
