@@ -66,10 +66,11 @@ def _header_seconds(file: BinaryIO) -> Optional[float]:
     """A WAV file's length from its checked header; None for another kind of file."""
     try:
         header = wav_header(file)
+        file.seek(0)
     except HeaderError as e:
         raise AudioError(str(e)) from None
-    finally:
-        file.seek(0)
+    except OSError as e:  # a file that is not one to read (/proc/self/mem: an I/O error)
+        raise AudioError(f"it cannot be read ({(e.strerror or str(e)).lower()})") from None
     if header is not None and header.seconds > MAX_SECONDS:
         raise AudioError(f"too long ({header.seconds:.0f} s; the limit is {MAX_SECONDS:.0f} s)")
     return None if header is None else header.seconds

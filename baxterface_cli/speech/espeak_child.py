@@ -55,6 +55,10 @@ def serve(requests: int, replies: int) -> None:
     # Ctrl-C at a terminal reaches the whole process group: it is for the parent, which ends this
     # one by closing its pipe. Without this, a press of Ctrl-C would read as a crash.
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    # espeak-ng 1.51 opens PulseAudio at its start in every mode, retrieval and synchronous too,
+    # and libpulse makes ~/.config/pulse and $TMPDIR/pulse-* to find a server; this process only
+    # synthesises (the sound is played by the program, if at all), so its server is none.
+    os.environ["PULSE_SERVER"] = "unix:" + os.devnull
     from ..extras import MissingTool
     from .espeak import espeak_library, synthesize, voice_file
 
