@@ -33,6 +33,7 @@ ALIGN_SECONDS = 60.0
 # Words recognised without a text are aligned in pieces this long at most (the recogniser's memory
 # grows with the length too), each cut at its quietest frame of the last PIECE_SLACK seconds.
 PIECE_SECONDS, PIECE_SLACK = 20.0, 5.0
+FLAT = 32  # int16: a piece no louder than this (-60 dB) holds nothing said
 ADDED_WORDS = 20000  # words heard added to a decoder's dictionary before it is made anew
 _LOCK = threading.Lock()  # a decoder is not to be shared between threads
 _decoders: Dict[str, Any] = {}
@@ -115,6 +116,8 @@ def _recognised(sound: np.ndarray, recognise: Recogniser) -> Heard:
     every = True
     for start, end in pieces(sound):
         piece = sound[start:end]
+        if _flat(piece):
+            continue  # nothing said: silence (SIL) without the recogniser's and the aligner's work
         heard: Optional[List[List[str]]] = None
         with contextlib.suppress(RuntimeError):  # the recogniser's engine failed: the loop hears it
             heard = [word for word in recognise(piece, ANALYSIS_RATE) if word]
@@ -130,6 +133,15 @@ def _recognised(sound: np.ndarray, recognise: Recogniser) -> Heard:
         at = start / ANALYSIS_RATE
         phones += [(a + at, b + at, name) for a, b, name in found or ()]
     return Heard(_contiguous(phones, len(sound) / ANALYSIS_RATE), (), False, every)
+
+
+def _flat(piece: np.ndarray) -> bool:
+    """A piece no louder than FLAT anywhere, about its median (a constant offset, a file of zero bytes
+    in 8-bit or mu-law, is silence too)."""
+    if not len(piece):
+        return True
+    values = np.asarray(piece, np.int32)
+    return int(np.abs(values - int(np.median(values))).max()) <= FLAT
 
 
 def pieces(sound: np.ndarray) -> List[Tuple[int, int]]:

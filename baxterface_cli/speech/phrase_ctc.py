@@ -52,6 +52,13 @@ MOST_WINDOW = 3.0
 QUIET = 100.0  # RMS (of int16) under which a hop's sound is silence: no look while the window is all that
 
 
+def _loudness(samples: np.ndarray) -> float:
+    """RMS about the block's mean: a constant offset (a file of zero bytes in 8-bit or mu-law is
+    one at full scale) is silence to the ear, and is not looked at for ten minutes as if it spoke."""
+    values = samples.astype(np.float64)
+    return float(np.sqrt(np.mean((values - values.mean()) ** 2)))
+
+
 def _classes(tokens: Sequence[str]) -> Tuple[List[str], np.ndarray]:
     """The phones ("-" first: nothing new), and for each of the recogniser's tokens the index of the
     phone it stands for (its first; the blank, word breaks, marks and tones stand for "-")."""
@@ -171,7 +178,7 @@ class CtcSearch:
     def feed(self, samples: np.ndarray) -> List[Tuple[str, int, int]]:
         self._sound = np.concatenate([self._sound, samples])[-self.window :]
         self._fed += len(samples)
-        if len(samples) and float(np.sqrt(np.mean(samples.astype(np.float64) ** 2))) > QUIET:
+        if len(samples) and _loudness(samples) > QUIET:
             self._heard_until = self._fed
         if self._fed - self._looked < HOP * RATE:
             return []

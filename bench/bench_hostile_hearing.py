@@ -1,0 +1,178 @@
+"""Hearing and recordings under hostile input (issue 43, 7 and 8): what they cost, against a baseline
+of the same run.
+
+    python bench/bench_hostile_hearing.py [phrases] [zeros]
+
+With no phase named, both run.
+
+phrases (7): the listener's CPU a second of sound (one core's, time.process_time) over 10 s of
+speech (greeting.ogg twice), for 1, 10 and 30 short phrases, 32 of two words, and the heaviest phrase
+the language takes (eight words the dictionary spells four or five ways: 1,323 phones), each as a
+ratio to one phrase ("hello", the baseline); then `explain --hear` of 1,000 phrases over 8 minutes
+(the issue's: no answer in 300 s) and of 32 two-word phrases over 590 s: the time to the answer and
+its line. The bounds (LIMITS.max_phrases, max_phones, max_phone_seconds) refuse both at once.
+
+zeros (8): a 190 MB WAV of zero bytes, 8 channels of 8 bits at 44.1 kHz (565 s, a constant at full
+scale), against a 190 MB WAV of 16-bit zeros (259 s of true silence), the baseline: reading each
+(read_sound), and the time and peak memory of `explain` saying each (`say file`, analysis cache
+empty) and hearing each (`--hear`, one phrase).
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+import wave
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parent.parent
+WORDS = [
+    "hello",
+    "goodbye",
+    "robot",
+    "morning",
+    "baxter",
+    "table",
+    "window",
+    "yellow",
+    "purple",
+    "orange",
+    "banana",
+    "kitchen",
+    "garden",
+    "doctor",
+    "teacher",
+    "student",
+    "mountain",
+    "river",
+    "ocean",
+    "forest",
+    "castle",
+    "dragon",
+    "wizard",
+    "pirate",
+    "rocket",
+    "planet",
+    "comet",
+    "button",
+    "ladder",
+    "pencil",
+    "paper",
+    "glass",
+    "water",
+    "bottle",
+]
+HEAVY = "uses humid florida directv graduates uses humid florida"
+
+
+def explain(folder: Path, *args: str) -> tuple:
+    """(seconds, peak MB, exit code, the last line of stderr) of `baxterface explain ARGS`."""
+    env = dict(os.environ, XDG_CACHE_HOME=str(folder / "cache"), PYTHONPATH=str(ROOT))
+    start = time.monotonic()
+    with open(str(folder / "err.txt"), "w+") as err:
+        child = subprocess.Popen(
+            [sys.executable, "-m", "baxterface_cli", "explain", *args],
+            cwd=str(folder),
+            env=env,
+            stdout=subprocess.DEVNULL,
+            stderr=err,
+        )
+        timer = threading.Timer(600, child.kill)
+        timer.start()
+        _, status, usage = os.wait4(child.pid, 0)
+        timer.cancel()
+        child.returncode = os.WEXITSTATUS(status) if os.WIFEXITED(status) else -os.WTERMSIG(status)
+        err.seek(0)
+        line = (err.read().strip().splitlines() or [""])[-1]
+    return time.monotonic() - start, usage.ru_maxrss // 1024, child.returncode, line[:160]
+
+
+def handlers(phrases) -> str:
+    return "".join(f'on word "{p}" {{ happy }}\n' for p in phrases)
+
+
+def phrases(folder: Path) -> None:
+    from baxterface_cli.speech.word_spotter import WordError, read_recording, spot_samples
+
+    speech = read_recording(str(ROOT / "scripts_examples" / "greeting.ogg"))
+    speech = np.concatenate([speech, speech])
+    seconds = len(speech) / 16000
+    pairs = [f"{a} {b}" for a, b in zip(WORDS, WORDS[1:] + WORDS[:1])][:32]
+    cases = [("1 phrase (baseline)", ["hello"]), ("10 phrases", WORDS[:10]), ("30 phrases", WORDS[:30])]
+    cases += [("32 two-word phrases", pairs), ("the heaviest phrase", [HEAVY])]
+    print(f"the listener over {seconds:.1f} s of speech, CPU a second of sound:")
+    base = None
+    for label, words in cases:
+        start = time.process_time()
+        try:
+            spot_samples(speech, words)
+        except WordError as e:
+            print(f"  {label:24} refused: {e}")
+            continue
+        cost = (time.process_time() - start) / seconds
+        base = base or cost
+        print(f"  {label:24} {cost * 1000:6.0f} ms   x{cost / base:.2f}")
+    for name, length in (("eight.wav", 480), ("long.wav", 590)):
+        with wave.open(str(folder / name), "wb") as w:
+            w.setnchannels(1), w.setsampwidth(2), w.setframerate(16000)
+            noise = np.random.default_rng(1).normal(0, 3000, 16000 * length).astype(np.int16)
+            w.writeframes(noise.tobytes())  # sound all along: every second is listened to
+    many = [f"{a} {b}" for a in WORDS for b in WORDS if a != b][:1000]
+    (folder / "many.face").write_text(handlers(many))
+    (folder / "pairs.face").write_text(handlers(pairs))
+    for label, args in (
+        ("1,000 phrases over 480 s (the issue's)", ("many.face", "--hear", "eight.wav")),
+        ("32 two-word phrases over 590 s", ("pairs.face", "--hear", "long.wav")),
+    ):
+        took, peak, code, line = explain(folder, *args)
+        print(f"  explain --hear, {label}: {took:.1f} s, exit {code}: {line}")
+
+
+def zeros(folder: Path) -> None:
+    from baxterface_cli.speech.audio_files import read_sound
+
+    size = 190 * 2**20
+    layouts = (("silence.wav", 8, 2, 48000, "16-bit zeros, 8 channels at 48 kHz (baseline)"),)
+    layouts += (("zeros.wav", 8, 1, 44100, "8-bit zero bytes, 8 channels at 44.1 kHz"),)
+    for name, channels, width, rate, _ in layouts:
+        with wave.open(str(folder / name), "wb") as w:
+            w.setnchannels(channels), w.setsampwidth(width), w.setframerate(rate)
+            block = bytes(2**20)
+            for _ in range(size // 2**20):
+                w.writeframesraw(block)
+    (folder / "hello.face").write_text('on word "hello" { happy }\n')
+    rows = []
+    for name, _, _, _, label in layouts:
+        (folder / f"say-{name}.face").write_text(f'say file "{name}"\n')
+        start = time.monotonic()
+        sound = read_sound(str(folder / name))
+        read = time.monotonic() - start
+        said = explain(folder, f"say-{name}.face")
+        heard = explain(folder, "hello.face", "--hear", name)
+        rows.append((label, sound.duration, read, said, heard))
+    base = rows[0]
+    for label, duration, read, said, heard in rows:
+        print(f"{label}, {duration:.0f} s:")
+        print(f"  read_sound {read:6.2f} s   x{read / base[2]:.2f}")
+        print(f"  say file   {said[0]:6.2f} s   x{said[0] / base[3][0]:.2f}   {said[1]} MB   exit {said[2]}")
+        print(
+            f"  --hear     {heard[0]:6.2f} s   x{heard[0] / base[4][0]:.2f}   {heard[1]} MB   exit {heard[2]}"
+        )
+
+
+def main() -> None:
+    wanted = sys.argv[1:] or ["phrases", "zeros"]
+    print(f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
+    with tempfile.TemporaryDirectory() as tmp:
+        for phase in wanted:
+            {"phrases": phrases, "zeros": zeros}[phase](Path(tmp))
+
+
+if __name__ == "__main__":
+    main()
