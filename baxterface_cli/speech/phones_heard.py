@@ -98,6 +98,8 @@ def hear(
                     return aligned
     if recognise is not None:
         return _recognised(sound, recognise)
+    if _flat(sound):
+        return Heard(_contiguous([], len(sound) / ANALYSIS_RATE), (), False)  # nothing said
     with _LOCK:
         phones = _phone_loop(data)
     return Heard(_contiguous(phones, len(sound) / ANALYSIS_RATE), (), False)
