@@ -72,7 +72,7 @@ HEAVY = "uses humid florida directv graduates uses humid florida"
 
 
 def explain(folder: Path, *args: str) -> tuple:
-    """(seconds, peak MB, exit code, the last line of stderr) of `baxterface explain ARGS`."""
+    """(seconds, peak MB, exit code, the first line of stderr) of `baxterface explain ARGS`."""
     env = dict(os.environ, XDG_CACHE_HOME=str(folder / "cache"), PYTHONPATH=str(ROOT))
     start = time.monotonic()
     with open(str(folder / "err.txt"), "w+") as err:
@@ -89,7 +89,7 @@ def explain(folder: Path, *args: str) -> tuple:
         timer.cancel()
         child.returncode = os.WEXITSTATUS(status) if os.WIFEXITED(status) else -os.WTERMSIG(status)
         err.seek(0)
-        line = (err.read().strip().splitlines() or [""])[-1]
+        line = (err.read().strip().splitlines() or [""])[0]  # a diagnostic: its first line
     return time.monotonic() - start, usage.ru_maxrss // 1024, child.returncode, line[:160]
 
 
