@@ -80,6 +80,7 @@ def play(
     from ..drawing.renderer import Renderer
     from ..engine.session_run import reactive
     from ..play.player import Player, TerminalScreen, WindowScreen, window_available
+    from ..speech.synthesis import start_in_background
 
     if watch and (script_path in (None, "-") or inline is not None):
         raise fail("baxterface play: --watch needs a SCRIPT file", 2)
@@ -107,6 +108,7 @@ def play(
             "baxterface play: no display and no terminal to play in; "
             "use 'baxterface render SCRIPT --out show.gif' to make a file instead"
         )
+    start_in_background()  # the speech process starts as the theme is fitted: no `say` waits for it
     renderer = Renderer(fitted_theme(theme, size, "play"))
     animation, _ = reacting_animation(script, events, seed, idle, crossfade, duration, "play", hear, heard)
     held: List[str] = []  # a terminal's face would cover the line; it is said when the face is gone

@@ -35,6 +35,7 @@ def play_live(
     from ..language.event_trace import read_trace
     from ..play.live_player import LivePlayer
     from ..play.player import TerminalScreen, WindowScreen
+    from ..speech.synthesis import start_in_background
 
     words = phrases_wanted(script, "play", "--listen") if listen else []
     try:
@@ -43,6 +44,7 @@ def play_live(
             trace = read_trace("/dev/stdin" if events == "-" else events, events)
     except ScriptError as e:
         raise fail(e.render()) from None
+    start_in_background()  # the speech process starts as the theme is fitted: no `say` waits for it
     renderer = Renderer(fitted_theme(theme, size, "play"))
     held: List[str] = []
 

@@ -303,6 +303,7 @@ def stream(
     """
     from ..ros.effect_messages import DISPLAY_TOPICS
     from ..ros.speakers import AUDIO_CHOICES, SPEAKERS
+    from ..speech.synthesis import start_in_background
 
     version = chosen_ros_version("stream", ros)
     _, ros_args = split_ros_args(list(ctx.args), version, "stream")
@@ -312,6 +313,7 @@ def stream(
     if audio is not None and audio not in SPEAKERS:
         raise fail(f"baxterface stream: --audio must be {AUDIO_CHOICES}, not {audio!r}", 2)
     script = script_from(script_path, inline, "stream")
+    start_in_background()  # the speech process starts as the theme is fitted: no `say` waits for it
     renderer_layers = fitted_theme(theme, size, "stream")
     live = _stream_live_checks(script, duration, listen)
     check_transport("stream", version, ros_transport)

@@ -66,9 +66,11 @@ def screen(
     from ..drawing.renderer import Renderer
     from ..screen.screen_api import ScreenApi
     from ..screen.screen_face import ScreenFace
+    from ..speech.synthesis import start_in_background
     from ..web.request_guard import is_loopback
     from ..web.server import bind, logger, serve, url_for
 
+    start_in_background()  # the speech process starts as the theme is fitted: no `say` waits for it
     renderer = Renderer(fitted_theme(theme, size, "screen"))
     renderer.prepare_in_background()
     try:

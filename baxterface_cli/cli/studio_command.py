@@ -59,6 +59,7 @@ def studio(
     except MissingTool as e:
         raise fail(f"baxterface studio: {e}") from None
     from ..drawing.renderer import Renderer
+    from ..speech.synthesis import start_in_background
     from ..studio.api import create_app, log
     from ..studio.workspace import Workspace
     from ..web.request_guard import is_loopback
@@ -69,6 +70,7 @@ def studio(
         raise fail(f"baxterface studio: {path} is a folder; give a script file", 2)
     if not path.parent.resolve().is_dir():
         raise fail(f"baxterface studio: no folder {path.parent} to keep {path.name} in", 2)
+    start_in_background()  # the speech process starts as the theme is fitted: no `say` waits for it
     renderer = Renderer(fitted_theme(theme, size, "studio"))
     renderer.prepare_in_background()
     try:

@@ -35,6 +35,7 @@ from ..engine.log_backlog import Backlog
 from ..language.parser import parse
 from ..robot.mtcnn_detector import detector_note
 from ..speech.recordings import Recordings
+from ..speech.synthesis import start_in_background
 from .connect import open_link
 from .face_loop import FaceLoop
 from .link import CHATTER, NODE_NAME, QUEUE, Link
@@ -115,6 +116,9 @@ class FaceNode:
 
 def run_node(argv: List[str], version: int = 1) -> int:
     """Run the face node on ROS `version` with the command line's ROS arguments `argv`."""
+    # The speech process starts beside the node's own start (ROS, the theme), not at the first
+    # `say`, which would wait for it: seconds on a robot busy with other nodes.
+    start_in_background()
     if version == 2:
         try:
             from_ros_args(argv)  # read again as the link joins; a bad one is a bad parameter
