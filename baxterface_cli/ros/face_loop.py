@@ -94,6 +94,9 @@ class FaceLoop:
     def _speak(self, effect: Speech) -> None:
         # Timed here, not by the script's status: a take-over restarts the script's clock.
         self.saying = (effect.utterance.said, time.monotonic() + effect.duration)
+        # Reported in this very tick, as a step's start is: a loop that a busy machine then holds
+        # up past a short utterance's end would otherwise never say that it spoke.
+        self.last_state_at = -math.inf
         self.speaker.speak(effect)
 
     # -- the loop
