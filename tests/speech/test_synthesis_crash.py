@@ -192,6 +192,20 @@ def _state(pid: int) -> str:
 
 
 @needs_proc
+def test_a_live_face_starts_its_speech_process_as_it_starts_not_at_its_first_say(tmp_path, engine):
+    # A first `say` that had to start it would wait seconds on a busy machine (issue 44).
+    marker = str(uuid.uuid4())
+    env = dict(os.environ, BAXTERFACE_TEST_MARKER=marker)
+    with running_screen(tmp_path, "--no-idle", env=env) as screen:
+        eventually(lambda: len(processes_with(marker)) == 2)  # the screen and its speech process
+        (child,) = [pid for pid in processes_with(marker) if pid != screen.process.pid]
+        status, answer = screen.json("POST", "/api/command", 'say "Hello there."')
+        assert status == 200 and answer["duration"] > 0.3, answer
+        assert sorted(processes_with(marker)) == sorted([screen.process.pid, child])  # that one said it
+    assert processes_with(marker) == []
+
+
+@needs_proc
 def test_the_screen_answers_a_crashing_say_with_an_error_and_goes_on(tmp_path, crashing):
     (tmp_path / "first.face").write_text("sad\n")
     marker = str(uuid.uuid4())
