@@ -27,6 +27,7 @@ import pytest
 from baxterface_cli.core.face_constants import LIMITS
 from conftest import ROOT, baxterface, free_port
 from playing import paced
+from waiting import PATIENCE
 
 pytestmark = pytest.mark.ros
 HAPPY_MOUTHS = ("teeth", "smile-open")  # what `happy` may show as its mouth
@@ -72,7 +73,7 @@ class Topic:
             self.messages.append((time.monotonic(), msg))
             self.arrived.notify_all()
 
-    def wait_for(self, test=lambda m: True, timeout=15.0, after=0):
+    def wait_for(self, test=lambda m: True, timeout=PATIENCE, after=0):
         """The first message (from index `after`) passing `test`."""
         deadline = time.monotonic() + timeout
         with self.arrived:
@@ -84,11 +85,11 @@ class Topic:
                 assert left > 0, f"no such message on {self.sub.name} ({len(self.messages)} seen)"
                 self.arrived.wait(left)
 
-    def wait_for_count(self, count, timeout=15.0):
+    def wait_for_count(self, count, timeout=PATIENCE):
         """Until `count` messages have come in all."""
         self.wait_for(lambda m: len(self.messages) >= count, timeout=timeout)
 
-    def wait_for_publisher(self, timeout=15.0):
+    def wait_for_publisher(self, timeout=PATIENCE):
         """Until a publisher (the node's) is connected: what it sends from now on reaches us."""
         deadline = time.monotonic() + timeout
         while self.sub.get_num_connections() == 0:
@@ -149,7 +150,7 @@ def forget_parameters(ros):
         rospy.delete_param("/baxter_face")
 
 
-def report(state_topic, after=0, test=lambda r: True, timeout=15.0):
+def report(state_topic, after=0, test=lambda r: True, timeout=PATIENCE):
     msg = state_topic.wait_for(lambda m: test(json.loads(m.data)), timeout=timeout, after=after)
     return json.loads(msg.data)
 
@@ -523,7 +524,7 @@ def test_send_queue_reaches_the_queue_topic(ros, node):
     report(state, test=lambda r: r["skin"] == 4)
 
 
-def wait_for_listeners(*publishers, timeout=15.0):
+def wait_for_listeners(*publishers, timeout=PATIENCE):
     deadline = time.monotonic() + timeout
     while any(p.get_num_connections() == 0 for p in publishers):
         assert time.monotonic() < deadline, "nothing subscribed"
@@ -811,7 +812,7 @@ def camera_image(centre, encoding="bgr8", face=True):
     return Image(height=400, width=640, encoding=encoding, step=step, data=pixels.tobytes())
 
 
-def show_camera_until(camera, state, image, test, timeout=15.0):
+def show_camera_until(camera, state, image, test, timeout=PATIENCE):
     """Publish `image` at 30 Hz until ~state passes `test`; that report."""
     deadline = time.monotonic() + timeout
     while True:

@@ -21,7 +21,7 @@ from baxterface_cli.ros.connect import open_link
 from conftest import ROOT, baxterface, needs
 from playing import paced
 from ros2_world import Heard
-from waiting import eventually
+from waiting import PATIENCE, eventually
 
 pytestmark = [pytest.mark.ros2, pytest.mark.xdist_group("ros2_node")]
 
@@ -42,7 +42,8 @@ class NodeProcess:
         )
         self.lines = []
         self.said = threading.Condition()
-        threading.Thread(target=self._read, daemon=True).start()
+        self.reader = threading.Thread(target=self._read, daemon=True)
+        self.reader.start()
 
     def _read(self):
         for line in self.proc.stdout:
@@ -50,7 +51,7 @@ class NodeProcess:
                 self.lines.append(line.rstrip("\n"))
                 self.said.notify_all()
 
-    def wait_for_line(self, part, timeout=20.0):
+    def wait_for_line(self, part, timeout=PATIENCE):
         deadline = time.monotonic() + timeout
         with self.said:
             while not any(part in line for line in self.lines):
@@ -62,7 +63,7 @@ class NodeProcess:
         if self.proc.poll() is None:
             self.proc.send_signal(signal.SIGTERM)
         code = self.proc.wait(timeout=30)
-        time.sleep(0.1)  # the reader's last lines
+        self.reader.join(timeout=PATIENCE)  # its last lines: it ends at the end of the output
         return code, "\n".join(self.lines)
 
 
@@ -134,6 +135,9 @@ def test_send_happy_changes_the_screen_to_a_warm_bgr8_face_and_the_state_says_so
     screen.close()
 
 
+LONG_SAY = "Hi, this is the face on the robot's screen, saying a whole sentence."
+
+
 @pytest.mark.parametrize(
     "command, check",
     [
@@ -142,7 +146,9 @@ def test_send_happy_changes_the_screen_to_a_warm_bgr8_face_and_the_state_says_so
         ("look 200 0 in 0.2s", lambda r: r["eye_x"] == 80.0),
         ("dynamic_human_follow_on", lambda r: r["following"] == "human" and r["follow_dynamic"]),
         ("mood -1 0 in 0.2s", lambda r: r["mood"] == [-1.0, 0.0] and r["expression"]["mouth_curve"] < 0),
-        ('say "Hi"', lambda r: r["saying"] == "Hi" and r["mouth"].startswith("speak")),
+        # Long enough to be seen speaking: a state goes out every 0.1 s at most, and a busy machine
+        # may hold the node's loop up past all of a short "Hi" (its `saying` alone is told at once).
+        (f'say "{LONG_SAY}"', lambda r: r["saying"] == LONG_SAY and r["mouth"].startswith("speak")),
     ],
 )
 def test_each_command_shows_on_state(face, command, check):

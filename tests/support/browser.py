@@ -13,6 +13,7 @@ from typing import Any, Iterator
 import pytest
 
 from conftest import needs
+from waiting import PATIENCE
 
 CHROMIUM = ("chromium", "chromium-browser")
 DRIVER = "chromedriver"
@@ -51,7 +52,7 @@ def chromium(width: int = 1400, height: int = 900) -> Iterator[Any]:
         driver.quit()
 
 
-def wait_for(driver: Any, script: str, timeout: float = 30.0) -> Any:
+def wait_for(driver: Any, script: str, timeout: float = PATIENCE) -> Any:
     """Run `script` (a JS expression) until it is truthy; its value."""
     from selenium.webdriver.support.ui import WebDriverWait
 

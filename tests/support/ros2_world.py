@@ -14,6 +14,8 @@ import threading
 import time
 from typing import Any, Callable, Dict, List, Optional, Tuple
 
+from waiting import PATIENCE
+
 # module file name -> its ROS domain id (0 to 101 keep clear of Linux's ephemeral ports)
 DOMAINS = {
     "test_link.py": 41,
@@ -73,7 +75,9 @@ class Heard:
             self.messages.append((time.monotonic(), kept))
             self.arrived.notify_all()
 
-    def wait_for(self, test: Callable[[Any], bool] = lambda m: True, timeout: float = 20.0, after: int = 0):
+    def wait_for(
+        self, test: Callable[[Any], bool] = lambda m: True, timeout: float = PATIENCE, after: int = 0
+    ):
         """The first message (from index `after`) passing `test`."""
         deadline = time.monotonic() + timeout
         with self.arrived:

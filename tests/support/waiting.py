@@ -7,8 +7,13 @@ from typing import Callable, TypeVar
 
 T = TypeVar("T")
 
+# How long a test waits for something it expects to happen (a state, a frame, a sound, a line)
+# before it fails. Generous: only a failing test waits it out, and a machine busy with other work
+# (`make test-busy`, a robot beside heavy nodes) stretches a start or a first `say` to seconds.
+PATIENCE = 60.0
 
-def eventually(check: Callable[[], T], timeout: float = 30.0) -> T:
+
+def eventually(check: Callable[[], T], timeout: float = PATIENCE) -> T:
     """`check()` once it is truthy (asked every 50 ms for up to `timeout` seconds)."""
     deadline = time.monotonic() + timeout
     while True:
