@@ -100,7 +100,11 @@ def test_past_the_events_a_session_holds_firing_is_refused_with_the_reason(tmp_p
 
 def preview_frame(studio, t):
     """The studio's preview at `t`, paused there, as its page gets it."""
-    assert studio.json("POST", "/api/transport", {"action": "seek", "t": t})[0] == 200
+    # Paused first: a fired event plays on from where it was fired, and a seek keeps playing, so
+    # the frame would be some way past `t`, as far as a busy machine is slow to answer.
+    assert studio.json("POST", "/api/transport", {"action": "pause"})[0] == 200
+    status, shown = studio.json("POST", "/api/transport", {"action": "seek", "t": t})
+    assert status == 200 and not shown["playing"] and shown["t"] == t, shown
     return np.asarray(Image.open(io.BytesIO(studio.frame())).convert("RGB"), dtype=np.int16)
 
 
