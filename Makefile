@@ -51,7 +51,7 @@ export UV_NATIVE_TLS := 1
 JOBS ?= 2
 MAIN_JOBS ?= 3
 
-.PHONY: play test test-python test-python38 test-ros test-realtime test-realtime-sound test-realtime-ros lint format golden theme pictures bench system system-base system-play venv \
+.PHONY: play test test-busy test-python test-python38 test-ros test-realtime test-realtime-sound test-realtime-ros lint format golden theme pictures bench system system-base system-play venv \
 	venv-play venv-studio venv38 venv-ros ros clean editor studio
 
 # `venv` is the full one the tests, lint and benchmarks use; play and studio make smaller ones first.
@@ -138,6 +138,11 @@ test:
 	$(MAKE) --no-print-directory -j3 --output-sync=target test-python test-python38 test-ros \
 		BESIDE="and not realtime"
 	$(MAKE) --no-print-directory test-realtime
+
+# `make test` with the machine busy beside it: .ci/busy runs two spinning loops a core for as long
+# as the tests run and stops them at the end (a robot runs its face beside other heavy nodes).
+test-busy:
+	.ci/busy $(MAKE) --no-print-directory test
 
 test-python: lint system-base
 	$(BIN)/python -m pytest -n $(MAIN_JOBS) --dist loadgroup -m "not ros $(BESIDE)"
