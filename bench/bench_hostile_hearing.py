@@ -32,43 +32,8 @@ from pathlib import Path
 import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent
-WORDS = [
-    "hello",
-    "goodbye",
-    "robot",
-    "morning",
-    "baxter",
-    "table",
-    "window",
-    "yellow",
-    "purple",
-    "orange",
-    "banana",
-    "kitchen",
-    "garden",
-    "doctor",
-    "teacher",
-    "student",
-    "mountain",
-    "river",
-    "ocean",
-    "forest",
-    "castle",
-    "dragon",
-    "wizard",
-    "pirate",
-    "rocket",
-    "planet",
-    "comet",
-    "button",
-    "ladder",
-    "pencil",
-    "paper",
-    "glass",
-    "water",
-    "bottle",
-]
-HEAVY = "uses humid florida directv graduates uses humid florida"
+sys.path.insert(0, str(ROOT / "tests" / "support"))
+from listened_words import HEAVY, WORDS  # noqa: E402
 
 
 def explain(folder: Path, *args: str) -> tuple:

@@ -18,47 +18,8 @@ import pytest
 
 from baxterface_cli.core.face_constants import LIMITS
 from conftest import baxterface
+from listened_words import HEAVY, WORDS
 from waiting import eventually
-
-WORDS = [
-    "hello",
-    "goodbye",
-    "robot",
-    "morning",
-    "baxter",
-    "table",
-    "window",
-    "yellow",
-    "purple",
-    "orange",
-    "banana",
-    "kitchen",
-    "garden",
-    "doctor",
-    "teacher",
-    "student",
-    "mountain",
-    "river",
-    "ocean",
-    "forest",
-    "castle",
-    "dragon",
-    "wizard",
-    "pirate",
-    "rocket",
-    "planet",
-    "comet",
-    "button",
-    "ladder",
-    "pencil",
-    "paper",
-    "glass",
-    "water",
-    "bottle",
-]
-# A phrase the language takes (8 words, 55 letters) of words the dictionary spells four or five
-# ways each: 25 spellings of it, 1,323 phones, where "hello" has 2 and 8.
-HEAVY = "uses humid florida directv graduates uses humid florida"
 
 
 def handlers(phrases) -> str:
