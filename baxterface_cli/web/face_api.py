@@ -36,7 +36,7 @@ from ..language.event_line import read_event_line
 from ..language.source import decode
 from .answers import diagnostics_json, problem
 from .frame_pump import STATUS_EVERY, Frames, Pages, Pump, Shown
-from .refusal_log import RefusalLog
+from .refusal_log import RefusalLog, echoed
 from .request_guard import Guard
 from .sounds import SOUND_KEY
 
@@ -100,7 +100,8 @@ def answered(handler: Handler) -> Handler:
         except Exception as e:  # logged and answered; the server carries on
             response = JSONResponse({"error": f"{type(e).__name__}: {e}"}, 500)
         if response.status_code >= 400:
-            self.refused(f"{request.method} {request.url.path}: {response.status_code} {_reason(response)}")
+            said = f"{echoed(request.method)} {echoed(request.url.path)}: {response.status_code}"
+            self.refused(f"{said} {_reason(response)}")
         return response
 
     return wrapped
@@ -339,8 +340,8 @@ class FaceApi:
     async def not_here(self, request: Request, exc: Exception) -> Response:
         """Starlette's own 404 and 405, answered in JSON like the rest and logged."""
         code = getattr(exc, "status_code", 404)
-        why = f"{request.method} is not taken here" if code == 405 else "nothing is here"
-        self.log(f"{request.method} {request.url.path}: {code} {why}")
+        why = f"{echoed(request.method)} is not taken here" if code == 405 else "nothing is here"
+        self.log(f"{echoed(request.method)} {echoed(request.url.path)}: {code} {why}")
         return JSONResponse({"error": why}, code)
 
 

@@ -22,6 +22,8 @@ from http.cookies import SimpleCookie
 from typing import Any, Callable, Dict, List, Optional, Tuple
 from urllib.parse import parse_qs
 
+from .refusal_log import echoed
+
 LOOPBACK_NAMES = ("localhost", "127.0.0.1", "[::1]")
 COOKIE = "baxterface_token"
 HTTP_PORT = 80  # the port a browser leaves out of the Host header
@@ -32,7 +34,6 @@ _AUTHORITY = re.compile(rf"(\[[0-9a-f:.]+\]|{_LABEL}(?:\.{_LABEL})*)(?::([0-9]{{
 _OCTET = r"(?:25[0-5]|2[0-4][0-9]|1[0-9][0-9]|[1-9]?[0-9])"
 # Other loopback addresses, only as a browser writes them (never `127.1`, never with leading zeros).
 _LOOPBACK_QUAD = re.compile(rf"127\.{_OCTET}\.{_OCTET}\.{_OCTET}")
-_SHOWN = 60  # characters of a refused header the refusal repeats
 
 
 def is_loopback(host: str) -> bool:
@@ -70,7 +71,7 @@ def origin_authority(origin: str) -> Optional[Tuple[str, Optional[int]]]:
 
 def _shown(text: str) -> str:
     """A header as the refusal repeats it: short, and in ASCII (a WebSocket's close reason is bytes)."""
-    return ascii(text[:_SHOWN] + ("..." if len(text) > _SHOWN else ""))
+    return ascii(echoed(text))
 
 
 class Guard:
@@ -100,7 +101,8 @@ class Guard:
             return await self.app(scope, receive, send)
         why = self.refusal(scope)
         if why is not None:
-            self.log(f"{scope.get('method', 'WEBSOCKET')} {scope.get('path', '')}: 403 {why}")
+            method, path = echoed(scope.get("method", "WEBSOCKET")), echoed(scope.get("path", ""))
+            self.log(f"{method} {path}: 403 {why}")
             return await _refuse(scope, receive, send, why)
         if self.token is not None and scope["type"] == "http" and self._query_token(scope):
 

@@ -28,3 +28,11 @@ def test_different_refusals_are_each_logged_at_once():
     ):
         log(text)
     assert len(lines) == 2
+
+
+def test_a_refusal_of_any_length_is_logged_in_at_most_a_few_hundred_characters():
+    lines = []
+    log = RefusalLog(lines.append, clock=lambda: 5.0)
+    log("POST /api/command: 400 unknown command " + "x" * 262_209)
+    assert len(lines) == 1 and len(lines[0]) < 600
+    assert lines[0].endswith(f"... ({262_209 + 39:,} characters)")

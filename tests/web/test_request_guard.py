@@ -179,3 +179,35 @@ def test_a_head_sent_a_byte_at_a_time_is_cut_off(studio):
             return closed_by_server(sock)
 
         assert eventually(cut_off, timeout=60)
+
+
+LONG = 4000  # characters of each long part: the whole head stays within uvicorn's 16 KiB
+
+
+def _sent_whole(port: int, head: str) -> bytes:
+    """The server's answer's first line to `head`, sent as it is on a socket of its own."""
+    with socket.create_connection(("127.0.0.1", port), timeout=30) as sock:
+        sock.sendall(head.encode("latin-1"))
+        return sock.makefile("rb").readline()
+
+
+def test_a_long_path_or_token_is_cut_short_in_the_log_with_its_length(studio):
+    """A refusal repeats a path or token of thousands of characters as its first 80 and its length."""
+    path = "/api/state/" + "p" * LONG
+    token = "t" * LONG
+    refused = (
+        f"GET {path}?token={token} HTTP/1.1\r\nHost: evil.example:{studio.port}\r\n"
+        f"X-Baxterface-Token: {token}\r\nCookie: baxterface_token={token}\r\nConnection: close\r\n\r\n"
+    )
+    assert b" 403 " in _sent_whole(studio.port, refused)
+    not_here = (
+        f"GET {path}?token={token} HTTP/1.1\r\nHost: 127.0.0.1:{studio.port}\r\nConnection: close\r\n\r\n"
+    )
+    assert b" 404 " in _sent_whole(studio.port, not_here)
+    logged = eventually(lambda: [line for line in studio.log() if "/api/state/ppp" in line][-2:])
+    cut = f"/api/state/{'p' * 69}... ({len(path):,} characters)"
+    assert len(logged) == 2, logged
+    assert logged[0].startswith(f"baxterface studio: GET {cut}: 403 this studio answers on loopback only")
+    assert logged[1] == f"baxterface studio: GET {cut}: 404 nothing is here"
+    assert max(len(line) for line in studio.log()) < 500
+    assert not [line for line in studio.log() if "t" * 100 in line]
