@@ -8,13 +8,24 @@ the frame pump is frame_pump.py's. Connections are kept from using up the proces
 from __future__ import annotations
 
 import sys
+import threading
 from typing import Any, Callable, Optional
 
 from .connections import Connections
 
+_WRITING = threading.Lock()
+
 
 def _stderr(message: str) -> None:
-    print(message, file=sys.stderr, flush=True)
+    """`message` and its newline in one write: the frame pump, the ROS listener and the server's
+    threads log side by side, and print's two writes (the text, then the newline) once joined two
+    lines into one."""
+    stream = sys.stderr
+    if stream is None:  # no standard error at all (pythonw): nowhere to log
+        return
+    with _WRITING:
+        stream.write(message + "\n")
+        stream.flush()
 
 
 def logger(command: str) -> Callable[[str], None]:
