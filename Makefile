@@ -198,6 +198,7 @@ bench: venv venv-ros
 	$(BIN)/python bench/bench_check.py
 	$(BIN)/python bench/bench_export.py
 	$(VENV_ROS)/bin/python bench/bench_speech.py
+	$(VENV_ROS)/bin/python bench/bench_first_say.py
 	$(BIN)/python bench/bench_lipsync.py
 	$(BIN)/python bench/bench_studio.py
 	$(BIN)/python bench/bench_screen.py
