@@ -1,19 +1,16 @@
 """One live session: a script and its handlers on one face, events in, face states and robot cues out.
 
-The clock is the caller's. `submit` takes text (handlers install themselves; other statements
+The clock is the caller's. `run` takes a script (handlers install themselves; other statements
 become the main script), `post` an event at a time, `tick(now)` the face to show and the robot
 cues that fell due. `render`, `play` and `explain --events` run the same session over an events
 file (session_run.py), so a video shows what the robot would do.
 
-The face does one thing at a time: the main script, or one handler's run. A handler whose event
-comes while only the main script runs starts at once and pauses it; when no handler is left to
-run, the main script goes on where it stopped (the statement cut short starts over; a `wait`
-waits out what was left). An event whose handler cannot start because another runs follows its
-handler's policy: `drop` ignores it (and counts it), `queue` runs it after, in turn, `interrupt`
-stops the handler running and runs at once; `cooldown T` ignores the event for T seconds after
-its handler last started. Every step is compiled by the engine's compiler from the face as it is
-(`Carry`: what was begun finishes), except after an `interrupt`, which stops moves where they
-are; whatever stops, its speech stops with it and the mouth comes to rest.
+The face does one thing at a time: the main script, or one handler's run, which pauses the main
+script until no handler is left (the statement cut short starts over; a `wait` waits out what was
+left). An event whose handler cannot start follows its policy (`drop`, `queue`, `interrupt`,
+`cooldown T`: docs/language.md). Each step is compiled from the face as it is (`Carry`: what was
+begun finishes), but after an `interrupt`, which stops moves where they are; whatever stops, its
+speech stops with it and the mouth comes to rest.
 
 Every public method may be called from any thread (one lock). A frame loop that must never wait
 for a compile (a `say` takes espeak-ng's time) calls `frame`, which never compiles, and leaves
@@ -40,12 +37,11 @@ from ..core.face_state import FaceState
 from ..language import syntax_tree as n
 from ..language.diagnostics import Diagnostic, ScriptError
 from ..language.events import TIMERS, in_words, matches
-from ..language.parser import parse
 from .effects import Cue
 from .live_face import LiveFace
 from .session_handlers import EveryClock, by_kind, install, key_of
 from .session_program import Await, Lap, Play, Runner
-from .session_records import Handler, Logged, Run
+from .session_records import Handler, Kind, Logged, Run
 from .session_steps import compile_step, round_rest
 from .timeline import Timeline
 
@@ -108,12 +104,6 @@ class LiveSession:
 
     # -- in
 
-    def submit(self, text: str, now: float, filename: str = "display_chatter") -> n.Script:
-        """Parse `text` and `run` it at `now`; ScriptError if it is bad."""
-        script = parse(text, filename)  # outside the lock: a long script parses while frames go on
-        self.run(script, now)
-        return script
-
     def run(self, script: n.Script, now: float) -> None:
         """Install `script`'s handlers (one for an event already handled replaces it); raise its
         signals, when that is all it says; or else make its statements the main script, stopping
@@ -126,7 +116,7 @@ class LiveSession:
         at = self.clock
         handlers, replaced = install(self.handlers, script)  # ScriptError past the bounds: nothing done
         for event in {key_of(h.on.event): h.on.event for h in replaced}.values():
-            self._note(at, f"{in_words(event)}: its handler replaced")
+            self._note(at, Kind.REPLACED, f"{in_words(event)}: its handler replaced")
         if handlers is not self.handlers:
             self.handlers, self._kinds = handlers, by_kind(handlers)
             for h in handlers:
@@ -140,7 +130,7 @@ class LiveSession:
         if not rest and self.main is not None:
             return
         if self.active is not None:
-            self._note(at, f"{self.active.label} stopped by a new script")
+            self._note(at, Kind.TAKEN_OVER, f"{self.active.label} stopped by a new script")
             self.active = None
         self.pending.clear()
         self._pause(self.main, at)
@@ -178,6 +168,13 @@ class LiveSession:
                 self.lock.release()
         return self.face.state(now), cues
 
+    @property
+    def free(self) -> bool:
+        """Is the face free for a queued script: no handler running or waiting, the main script done?
+        (Read without the lock too, by a loop that must not wait: each of these is swapped whole.)"""
+        main = self.main
+        return self.active is None and not self.pending and (main is None or main.done)
+
     def counts(self) -> Dict[str, Dict[str, int]]:
         """Each handler's runs, and the events it dropped and queued."""
         with self.lock:
@@ -209,7 +206,7 @@ class LiveSession:
         run = self._owner()
         if run is not None and not run.done:
             why = f"{now - self.clock:.1f} s behind the clock, its steps too short to keep time"
-            self._note(self.clock, f"{run.label} stopped: {why}")
+            self._note(self.clock, Kind.STOPPED, f"{run.label} stopped: {why}")
             run.playing = run.waiting = None
             self._finished(run, self.clock)
         self._every.skip_past(now)
@@ -263,7 +260,7 @@ class LiveSession:
             self.ignored += 1
             return
         if event.kind not in TIMERS:  # a timer's tick is told only by what it starts
-            self._note(at, f"event {in_words(event)}" + (f" ({source})" if source else ""))
+            self._note(at, Kind.EVENT, f"event {in_words(event)}" + (f" ({source})" if source else ""))
             self.last_event = at
             self._idle_fired.clear()
         for run in (self.main, self.active):
@@ -277,25 +274,27 @@ class LiveSession:
         on = handler.on
         if on.cooldown and handler.last_start is not None and at < handler.last_start + on.cooldown:
             handler.dropped += 1
-            until = handler.last_start + on.cooldown
-            self._note(at, f"dropped {in_words(event)}: {handler.label} cools down till {until:.2f} s")
+            until = f"{handler.label} cools down till {handler.last_start + on.cooldown:.2f} s"
+            self._note(at, Kind.DROPPED, f"dropped {in_words(event)}: {until}")
             return
         if self.active is None:
             self._start(handler, at, cut=on.policy == "interrupt")
         elif on.policy == "drop":
             handler.dropped += 1
             whose = "" if self.active.handler is handler else f" for {handler.label}"
-            self._note(at, f"dropped {in_words(event)}{whose}: {self.active.label} is running")
+            self._note(at, Kind.DROPPED, f"dropped {in_words(event)}{whose}: {self.active.label} is running")
         elif on.policy == "queue":
             if sum(1 for h, _ in self.pending if h is handler) >= MAX_QUEUE:
                 handler.dropped += 1
-                self._note(at, f"dropped {in_words(event)}: {handler.label} has {MAX_QUEUE} queued")
+                self._note(
+                    at, Kind.DROPPED, f"dropped {in_words(event)}: {handler.label} has {MAX_QUEUE} queued"
+                )
             else:
                 handler.queued += 1
                 self.pending.append((handler, event))
-                self._note(at, f"queued {in_words(event)} for {handler.label}")
+                self._note(at, Kind.QUEUED, f"queued {in_words(event)} for {handler.label}")
         else:
-            self._note(at, f"{self.active.label} interrupted")
+            self._note(at, Kind.INTERRUPTED, f"{self.active.label} interrupted")
             self._pause(self.active, at)  # it may be between steps: raising this very signal
             self.active = None
             self._start(handler, at, cut=True)
@@ -311,6 +310,7 @@ class LiveSession:
             if started == MAX_STARTS_AT_ONCE + 1:
                 self._note(
                     at,
+                    Kind.STOPPED,
                     f"{handler.label} not run: {MAX_STARTS_AT_ONCE} handler runs began "
                     "without time passing (handlers that raise each other's signals?)",
                 )
@@ -323,7 +323,7 @@ class LiveSession:
         run = Run(Runner(handler.on.body, script.definitions, self.rng), script, handler.label, handler)
         run.carry = not cut
         self.active = run
-        self._note(at, f"{handler.label} runs")
+        self._note(at, Kind.STARTED, f"{handler.label} runs")
         return True
 
     # -- runs
@@ -351,7 +351,7 @@ class LiveSession:
 
     def _timed_out(self, run: Run) -> None:
         wait, _ = run.waiting  # type: ignore[misc]
-        self._note(self.clock, f"{run.label}: 'wait until {in_words(wait.event)}' timed out")
+        self._note(self.clock, Kind.TIMED_OUT, f"{run.label}: 'wait until {in_words(wait.event)}' timed out")
         self._woken(run, self.clock)
 
     def _played(self, run: Run) -> None:
@@ -377,9 +377,8 @@ class LiveSession:
                     return
                 taken[id(run)] = taken.get(id(run), 0) + 1
                 if taken[id(run)] > MAX_STEPS_AT_ONCE:
-                    self._note(
-                        at, f"{run.label} stopped: it took {MAX_STEPS_AT_ONCE} steps without time passing"
-                    )
+                    why = f"it took {MAX_STEPS_AT_ONCE} steps without time passing"
+                    self._note(at, Kind.STOPPED, f"{run.label} stopped: {why}")
                     self._finished(run, at)
                     continue
                 self._step(run, at)
@@ -408,7 +407,7 @@ class LiveSession:
 
     def _finished(self, run: Run, at: float) -> None:
         run.done = True
-        self._note(at, f"{run.label} ends")
+        self._note(at, Kind.ENDED, f"{run.label} ends")
         if run is not self.active:
             return
         self.active = None
@@ -417,7 +416,7 @@ class LiveSession:
             if self._start(handler, at, cut=False):
                 return
         if self.main is not None and not self.main.done and self.active is None:
-            self._note(at, "main script goes on")  # `_drive` takes it on
+            self._note(at, Kind.RESUMED, "main script goes on")  # `_drive` takes it on
 
     def _play(self, run: Run, step: Play, at: float) -> None:
         playing, started = self.face.timeline, self.face.started
@@ -433,13 +432,13 @@ class LiveSession:
         run.playing = (step, at, at + length)
 
     def _exit(self) -> None:
-        self._note(self.clock, "the face exits")
+        self._note(self.clock, Kind.EXITED, "the face exits")
         self.exited, self.exited_at = True, self.clock
         self.active = None
         self.pending.clear()
 
-    def _note(self, at: float, text: str) -> None:
-        self.log.append(Logged(at, text))
+    def _note(self, at: float, kind: str, text: str) -> None:
+        self.log.append(Logged(at, text, kind))
         self.logged += 1
 
     def lines_since(self, logged: int) -> List[Logged]:

@@ -40,6 +40,11 @@ from ..language.diagnostics import Diagnostic, ScriptError
 from ..language.parser import parse
 from ..speech.recordings import RecordingError
 from .live_session import LiveSession
+from .session_records import Kind
+
+# What a node's log shows of the session's: every event and drop stays in the session's log and
+# counts, as a storm must not flood ROS's.
+FORWARDED = (Kind.REPLACED, Kind.STOPPED, Kind.TIMED_OUT)
 
 MAX_PENDING = 8  # queued commands waiting to be read
 MAX_UNREAD = 1000  # commands of any kind waiting to be read
@@ -276,7 +281,7 @@ class SessionIntake(ClosedOnExit):
         if kept is not None:  # another take-over waits: this one would be replaced as it started
             self.dropped += 1
             script = kept
-        if kind == "queue" and (self.waiting or not self._free()):
+        if kind == "queue" and (self.waiting or not self.session.free):
             if len(self.waiting) >= self.max_queue:
                 self.log("warn", f"refused a queued script: the queue is full ({self.max_queue} scripts)")
             else:
@@ -327,15 +332,9 @@ class SessionIntake(ClosedOnExit):
             self.log("error", f"bad command: {error.summary()}")
 
     def _start_queued(self) -> None:
-        while self.waiting and self._free() and not self.session.exited:
+        while self.waiting and self.session.free and not self.session.exited:
             self._run(self.waiting.popleft(), self.session.clock)
             self.session.advance(self.clock())
-
-    def _free(self) -> bool:
-        """Is the face free for a queued script: no handler running or waiting, the main script done?"""
-        s = self.session
-        with s.lock:
-            return s.active is None and not s.pending and (s.main is None or s.main.done)
 
     def _forward_log(self) -> None:
         """The session's lines a node's log should show: handlers replaced, runs stopped, failures.
@@ -343,7 +342,7 @@ class SessionIntake(ClosedOnExit):
         lines = self.session.lines_since(self._logged)
         self._logged = self.session.logged
         for line in lines:
-            if "replaced" in line.text or "stopped:" in line.text or "timed out" in line.text:
+            if line.kind in FORWARDED:
                 self._forward(line.at, line.text)
 
     def _forward(self, at: float, text: str) -> None:

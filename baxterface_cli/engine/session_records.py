@@ -14,9 +14,30 @@ from ..language.events import in_words
 from .session_program import Play, Runner
 
 
+class Kind:
+    """What a log line tells, so that a reader (the node's log, a session's record) picks lines by
+    their kind, never by the words of their text."""
+
+    EVENT = "event"  # an event came
+    STARTED = "started"  # a handler's run began
+    QUEUED = "queued"  # an event waits for its handler's turn
+    DROPPED = "dropped"  # an event was let go, and why
+    INTERRUPTED = "interrupted"  # a handler's run was cut by an `interrupt` handler
+    TIMED_OUT = "timed out"  # a `wait until` gave up
+    ENDED = "ended"  # a run came to its end
+    RESUMED = "resumed"  # the main script goes on after the handlers
+    REPLACED = "replaced"  # a handler sent later replaced the one for its event
+    STOPPED = "stopped"  # a run stopped by a bound: steps or starts at one instant, falling behind
+    TAKEN_OVER = "taken over"  # a handler's run stopped by a new main script
+    EXITED = "exited"  # the face exited
+
+
 class Logged(NamedTuple):
+    """One line of a session's log: when, what it says, and what kind of thing it tells."""
+
     at: float
     text: str
+    kind: str
 
 
 class Handler:

@@ -69,9 +69,8 @@ def stream_live(
                 raise taken.exception()  # a `say` espeak-ng cannot say, a recording gone: ScriptError
             if duration is not None:
                 return now >= start + duration
-            s = session  # read without its lock: its worker swaps these whole
-            idle = s.active is None and not s.pending and (s.main is None or s.main.done)
-            finished = not s.handlers and idle and loop.intake.idle() and s.face.finished(now)
+            s = session  # read without its lock: its worker swaps what `free` reads whole
+            finished = not s.handlers and s.free and loop.intake.idle() and s.face.finished(now)
             return taken.done() and finished
 
         def deaf(problem: str) -> None:

@@ -80,8 +80,7 @@ class ScreenFace:
 
     def _plain(self, script: Script) -> bool:
         """Is `script` played whole, as before the session: nothing in it or in the session reacts?"""
-        main = self.session.main
-        return not self.session.handlers and (main is None or main.done) and first_reacting(script) is None
+        return not self.session.handlers and self.session.free and first_reacting(script) is None
 
     def _begin(self, timeline: Timeline, now: float) -> None:
         self._first = self._first_reacting = None

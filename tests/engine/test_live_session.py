@@ -149,13 +149,13 @@ def test_ticks_give_the_face_and_the_robot_cues_once_each():
 
 def test_a_submitted_script_installs_handlers_and_signals_keep_the_main_script():
     s = session("forever { look left in 1s; look right in 1s }")
-    s.submit("on signal poke { blink }", 0.5)
-    s.submit("signal poke", 1.0)
+    s.run(parse("on signal poke { blink }", "display_chatter"), 0.5)
+    s.run(parse("signal poke", "display_chatter"), 1.0)
     assert said(s, "runs") == ["1 line 1 'on signal poke' runs"]
     assert s.main.runner.forever
-    s.submit("on signal poke { nod }", 2.0)
+    s.run(parse("on signal poke { nod }", "display_chatter"), 2.0)
     assert said(s, "replaced") == ["2 signal poke: its handler replaced"]
-    s.submit("happy", 3.0)
+    s.run(parse("happy", "display_chatter"), 3.0)
     assert not s.main.runner.forever
 
 
@@ -185,3 +185,23 @@ def test_a_recorded_run_is_refused_at_its_step_bound_counting_rounds_of_waits(mo
         run_over(script, parse_trace("0.5 signal go", "go.events"), duration=60.0)
     message = refused.value.diagnostics[0].message
     assert message.startswith("the run takes more than 500 steps by ") and "very short rounds" in message
+
+
+def test_each_log_line_says_what_kind_of_thing_it_tells():
+    # The node forwarded lines by matching words of their text: rewording one changed what ROS logged.
+    from baxterface_cli.engine.session_records import Kind
+
+    s = session(
+        "on touch { wait 1s }\non signal q queue { wait 1s }\non signal cut interrupt { nod }\n"
+        "wait until face seen timeout 0.5s; exit"
+    )
+    for at, event in ((0.1, "touch"), (0.2, "touch"), (0.3, "signal q"), (0.4, "signal cut")):
+        s.post(n.Event(*event.split(" ", 1)), at)
+    s.advance(10.0)
+    kinds = {line.kind for line in s.log}
+    known = {v for k, v in vars(Kind).items() if k.isupper()}
+    assert kinds <= known
+    assert {Kind.EVENT, Kind.STARTED, Kind.DROPPED, Kind.QUEUED, Kind.INTERRUPTED, Kind.ENDED} <= kinds
+    assert [line.text for line in s.log if line.kind == Kind.DROPPED] == [
+        "dropped touch: line 1 'on touch' is running"
+    ]
