@@ -19,7 +19,6 @@ from .app import (
     SCRIPT_ARG,
     SIZE_OPT,
     THEME_OPT,
-    animation_for,
     fail,
     fitted_theme,
     recordings_of,
@@ -295,11 +294,10 @@ def stream(
     """Stream a script to the robot's screen in real time, no face node needed.
 
     Frames are drawn here and published as bgr8, with the script's head, nod
-    and enable commands and its speech at their times. A script that reacts
-    (handlers, waits, signals, forever, one of) runs as the face node runs it,
-    with the robot's events (navigators, cuffs, sonar, camera, 'signal NAME'
-    on display_chatter, words with --listen), until it has nothing left to do
-    and no handlers, --duration T seconds, or Ctrl-C.
+    and enable commands and its speech at their times. It runs as the face node
+    runs a script, on the same live session, with the robot's events (navigators,
+    cuffs, sonar, camera, 'signal NAME' on display_chatter, words with --listen),
+    until it has nothing left to do and no handlers, --duration T seconds, or Ctrl-C.
     """
     from ..ros.effect_messages import DISPLAY_TOPICS
     from ..ros.speakers import AUDIO_CHOICES, SPEAKERS
@@ -315,51 +313,15 @@ def stream(
     script = script_from(script_path, inline, "stream")
     start_in_background()  # the speech process starts as the theme is fitted: no `say` waits for it
     renderer_layers = fitted_theme(theme, size, "stream")
-    live = _stream_live_checks(script, duration, listen)
+    if listen:
+        phrases_wanted(script, "stream", "--listen")
     check_transport("stream", version, ros_transport)
     ros_ready("stream", version)
     from ..drawing.renderer import Renderer
-    from ..ros.connect import RosUnavailable
-    from ..ros.send import stream as stream_to
-    from ..ros.speakers import UnknownAudio
 
-    if live:
-        options = dict(seed=seed, idle=idle, recordings=recordings_of(script), crossfade=crossfade)
-        _stream_live(
-            script,
-            Renderer(renderer_layers),
-            robot,
-            fps,
-            ros_args,
-            audio,
-            version,
-            duration,
-            listen,
-            barge_in,
-            options,
-        )
-        return
-    animation = animation_for(script, seed, idle, crossfade)
-    try:
-        played = stream_to(animation, Renderer(renderer_layers), robot, fps, ros_args, audio, version)
-    except UnknownAudio as e:
-        raise fail(f"baxterface stream: {e}", 2) from None
-    except RosUnavailable as e:
-        raise fail(f"baxterface stream: {e}") from None
-    typer.echo(f"streamed {animation.duration:.2f} s of script in {played:.2f} s", err=True)
-
-
-def _stream_live_checks(script, duration: Optional[float], listen: bool) -> bool:
-    """Does `stream` run `script` on a live session (it reacts, or hears)? Exit 2 for options that
-    fit no such script."""
-    from ..engine.session_run import reactive
-
-    if listen:
-        phrases_wanted(script, "stream", "--listen")
-    live = reactive(script)
-    if duration is not None and not live:
-        raise fail("baxterface stream: --duration is for a script that reacts (with 'on', 'forever' ...)", 2)
-    return live
+    options = dict(seed=seed, idle=idle, recordings=recordings_of(script), crossfade=crossfade)
+    renderer = Renderer(renderer_layers)
+    _stream_live(script, renderer, robot, fps, ros_args, audio, version, duration, listen, barge_in, options)
 
 
 def _stream_live(script, renderer, robot, fps, ros_args, audio, version, duration, listen, barge_in, options):
@@ -382,4 +344,4 @@ def _stream_live(script, renderer, robot, fps, ros_args, audio, version, duratio
         raise fail(e.render()) from None
     if duration is not None:  # it stops at the first frame at or past the duration: it ran that long
         ran = min(ran, duration)
-    typer.echo(f"streamed {ran:.2f} s live", err=True)
+    typer.echo(f"streamed {ran:.2f} s", err=True)

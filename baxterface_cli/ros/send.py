@@ -1,21 +1,11 @@
-"""`baxterface send` and `baxterface stream`: a face node's command topic, or the screen itself."""
+"""`baxterface send`: a face node's command topic; and the wait for the screen `stream` draws on."""
 
 from __future__ import annotations
 
 import time
-from typing import Any, List, Optional
+from typing import Any, List
 
-from ..drawing.renderer import Renderer
-from ..engine.animation import Animation
-from ..engine.effects import Cue
-from ..play.player import Player
-from .compressed import CompressedFrames
 from .connect import open_link
-from .effect_messages import DISPLAY_TOPICS
-from .images import image_fields
-from .link import Link
-from .robot_link import connect_robot
-from .speakers import default_audio, open_speaker
 
 DELIVERY = 5.0  # seconds a message may take to reach every listener before `send` moves on
 CONNECT = 5.0  # seconds `stream` on ROS 2 waits for the screen to subscribe before it plays anyway
@@ -67,63 +57,3 @@ def wait_for_screen(publisher: Any, version: int) -> None:
 
 def listeners(count: int) -> str:
     return f"{count} listener" + ("" if count == 1 else "s")
-
-
-class _RosScreen:
-    """A screen that is the robot's: frames go to its display topic."""
-
-    name = "robot"
-
-    def __init__(self, link: Link, topic: str) -> None:
-        self.link = link
-        self.publisher = link.publisher(topic, "sensor_msgs/Image", latched=True, queue=1)
-        self.jpeg = CompressedFrames(link, self.publisher.topic)  # for viewers elsewhere, as the node's
-        self.last: Optional[bytes] = None
-
-    def show(self, frame, status: str) -> None:
-        fields = image_fields(frame)
-        if fields["data"] != self.last:  # an unchanged frame is not sent again
-            self.publisher.publish(**fields)
-            self.last = fields["data"]
-            self.jpeg.offer(frame)
-        else:
-            self.jpeg.tick(time.monotonic())
-
-    def alive(self) -> bool:
-        return self.link.ok()
-
-
-def stream(
-    animation: Animation,
-    renderer: Renderer,
-    robot: str,
-    fps: float,
-    argv: List[str],
-    audio: Optional[str] = None,
-    version: int = 1,
-) -> float:
-    """Play `animation` on the robot's screen in real time, with its robot effects and speech.
-
-    The effects go through the same core `Robot` as the face node's, and the
-    speech through the same speaker for the `audio` mode (by default the node's
-    on that ROS version), so one script sends the same commands at the same
-    times from both.
-    """
-    with open_link(version, "baxterface_stream", argv, anonymous=True, leaving="streamed") as link:
-        screen = _RosScreen(link, DISPLAY_TOPICS[robot])
-        with screen.jpeg, open_speaker(
-            audio or default_audio(version), link, lambda t: link.log("warn", t), "--audio"
-        ) as speaker:
-            arm = connect_robot(link, speak=speaker.speak)
-            wait_for_screen(screen.publisher, version)
-            pending: List[Cue] = list(animation.timeline.cues)
-
-            def on_time(t: float) -> None:
-                while pending and pending[0].at <= t:
-                    arm.take(pending.pop(0).effect, t)
-                arm.tick(t)
-
-            player = Player(animation, renderer, screen, fps, on_time=on_time)
-            played = player.run()
-            time.sleep(0.3)
-    return played

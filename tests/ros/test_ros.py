@@ -1404,7 +1404,7 @@ def test_stream_runs_a_script_that_reacts_until_its_duration(ros):
 def test_stream_of_a_reacting_script_without_handlers_ends_when_it_is_done(ros):
     run = baxterface("stream", "--no-idle", "-e", "one of { happy | sad }\nsignal poke\nwait 0.3s", env=ros)
     assert run.code == 0, run.err
-    assert "streamed" in run.err and " live" in run.err
+    assert "streamed" in run.err
 
 
 @pytest.fixture(scope="module")
@@ -1468,7 +1468,6 @@ def test_a_node_told_to_listen_without_a_microphone_says_so_and_goes_on(ros):
     "args, message",
     [
         (["--listen", "-e", "on signal poke { happy }"], "--listen: the script listens for no words"),
-        (["--duration", "5", "-e", "happy"], "--duration is for a script that reacts"),
     ],
 )
 def test_stream_refuses_options_that_fit_no_script_before_ros(args, message):
