@@ -46,6 +46,14 @@ def _video(codec: str) -> Callable[[Path, Export], FrameSink]:
     return open_video
 
 
+def _webp(path: Path, export: Export) -> FrameSink:
+    from .webp import WebpWriter, available
+
+    if not available():  # a Pillow built without libwebp: FFmpeg's encoder, whole at the end
+        return _video("webp")(path, export)
+    return WebpWriter(path, export)
+
+
 def _apng(path: Path, export: Export) -> FrameSink:
     from .apng import ApngWriter
 
@@ -75,7 +83,7 @@ FORMATS: Dict[str, Format] = {
     ".gif": Format("a looping animated GIF", _gif),
     ".mp4": Format("an H.264 video that plays everywhere", _video("h264")),
     ".webm": Format("a VP9 video for the web", _video("vp9")),
-    ".webp": Format("a looping animated WebP, lossless", _video("webp")),
+    ".webp": Format("a looping animated WebP, lossless", _webp),
     ".apng": Format("a looping animated PNG, lossless", _apng),
     ".bag": Format("a ROS 1 bag that `rosbag play` replays on the robot", _bag),
     ".wav": Format("the speech alone, as a WAV sound file", _wav, frames=False),
