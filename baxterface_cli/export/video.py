@@ -1,5 +1,8 @@
 """MP4 (H.264), WebM (VP9) and animated WebP, through PyAV, or an `ffmpeg` program without it.
 
+(WebP only where Pillow has no libwebp: webp.py writes it as frames arrive, where FFmpeg's
+animation encoder writes the file only at its end.)
+
 Frames are numbered, 1/fps apart, so a video lasts exactly as many frames as
 it was given. Video pixels go out as yuv420p, what every player and browser
 plays; WebP is lossless. (Pillow's WebP writer holds every frame in memory
