@@ -17,7 +17,7 @@ For every format that `render` writes frame by frame:
   folder inside an unwritable one; each with its exit status, one line, and
   the time it took to fail;
 - WebP on a full disk (root): the 20.7 s show into a full tmpfs, the time to
-  its one line (the encoder writes the file only at its end).
+  its one line (FFmpeg's encoder wrote the file only at its end; see also bench_webp.py).
 """
 
 from __future__ import annotations
