@@ -1,27 +1,17 @@
 """One live session: a script and its handlers on one face, events in, face states and robot cues out.
 
-The clock is the caller's. `run` takes a script (handlers install themselves; other statements
-become the main script), `post` an event at a time, `tick(now)` the face to show and the robot
-cues that fell due. `render`, `play` and `explain --events` run the same session over an events
-file (session_run.py), so a video shows what the robot would do.
+The clock is the caller's: `run` takes a script, `post` an event, `tick(now)` gives the face and
+the robot cues due (`frame`, for a loop that must never wait for a compile, leaves `advance` to a
+worker: session_intake.py). Every public method may be called from any thread (one lock). `render`,
+`play` and `explain --events` run the same session over an events file (session_run.py).
 
-The face does one thing at a time: the main script, or one handler's run, which pauses the main
-script until no handler is left (the statement cut short starts over; a `wait` waits out what was
-left). An event whose handler cannot start follows its policy (`drop`, `queue`, `interrupt`,
-`cooldown T`: docs/language.md). Each step is compiled from the face as it is (`Carry`: what was
-begun finishes), but after an `interrupt`, which stops moves where they are; whatever stops, its
-speech stops with it and the mouth comes to rest.
-
-Every public method may be called from any thread (one lock). A frame loop that must never wait
-for a compile (a `say` takes espeak-ng's time) calls `frame`, which never compiles, and leaves
-`advance` to a worker of its own (session_intake.SessionIntake).
-
-Whatever a script says, the session keeps time: a `forever`'s round lasts `LIMITS.least_round`
-at least (session_steps.py); handlers are bounded in number (session_handlers.py); steps and
-handler starts at one instant are bounded; signals, starts and ends are taken in one loop
-(`_drive`), never a call deeper; a live face (`keep_up`) whose due steps fall `LIMITS.max_lag`
-behind its clock `MAX_BEHIND` times in a row stops the run taking them, with one log line; a
-recorded run counts every step, rounds of waits included, against `LIMITS.max_run_steps`.
+The face does one thing at a time: the main script (or the state it entered), or one handler's
+run, which pauses the main script until no handler is left; an event whose handler cannot start
+follows its policy (docs/language.md). Each step is compiled from the face as it is
+(session_steps.py). Whatever a script says, the session keeps time: a `forever`'s round lasts
+`LIMITS.least_round` at least; handlers are bounded (session_handlers.py); what happens at one
+instant is bounded and taken in one loop (`_drive`), never a call deeper; a live face (`keep_up`)
+that falls behind its clock stops the run doing it; a recorded run counts every step.
 """
 
 from __future__ import annotations
@@ -39,16 +29,16 @@ from ..language.diagnostics import Diagnostic, ScriptError
 from ..language.events import TIMERS, in_words, matches
 from .effects import Cue
 from .live_face import LiveFace
-from .session_handlers import EveryClock, by_kind, install, key_of
-from .session_program import Await, Lap, Play, Runner
+from .session_handlers import EveryClock, by_kind, install, key_of, why_dropped
+from .session_program import Await, Goto, Lap, Play, Runner
 from .session_records import Handler, Kind, Logged, Run
+from .session_states import States
 from .session_steps import compile_step, round_rest
 from .timeline import Timeline
 
 if TYPE_CHECKING:
     from ..speech.recordings import Recordings
 
-MAX_QUEUE = 32  # events a `queue` handler holds; more are dropped, and counted
 MAX_LOG = 10_000  # lines of the log a live session keeps
 MAX_STEPS_AT_ONCE = 10_000  # steps one run may take without time passing (signals, zero-length moves)
 MAX_STARTS_AT_ONCE = 100  # handler runs started without time passing: `on signal a { signal a }`
@@ -94,6 +84,7 @@ class LiveSession:
         self.last_event = now
         self._idle_fired: set = set()
         self._every = EveryClock()
+        self.states = States()  # the states installed, the one the face is in
         self._burst = (now, 0)  # (an instant, the handler runs started at it)
         self.steps = 0  # steps taken: a recorded run takes LIMITS.max_run_steps at most
         self.keep_up = keep_up
@@ -115,8 +106,9 @@ class LiveSession:
         self.advance(now)
         at = self.clock
         handlers, replaced = install(self.handlers, script)  # ScriptError past the bounds: nothing done
-        for event in {key_of(h.on.event): h.on.event for h in replaced}.values():
+        for event in {key_of(h): h.on.event for h in replaced}.values():
             self._note(at, Kind.REPLACED, f"{in_words(event)}: its handler replaced")
+        self.states.install(script)
         if handlers is not self.handlers:
             self.handlers, self._kinds = handlers, by_kind(handlers)
             for h in handlers:
@@ -213,11 +205,6 @@ class LiveSession:
         self.clock = max(self.clock, now)
         self._drive(self.clock)
 
-    def next_due_at(self) -> Optional[float]:
-        with self.lock:
-            due = self.next_due()
-            return None if due is None else due[0]
-
     def next_due(self) -> Optional[Tuple[float, Any]]:
         """The earliest thing the session does by itself, and how: (time, action); None if none."""
         if self.exited:
@@ -237,7 +224,7 @@ class LiveSession:
         tick = self._every.first()
         if tick is not None:
             found.append((tick[0], 2, self._tick_every))
-        for seconds in {h.on.event.seconds for h in self._kinds.get("idle", ())}:
+        for seconds in {h.on.event.seconds for h in self._kinds.get("idle", ()) if self.states.live(h.state)}:
             if seconds not in self._idle_fired:
                 found.append((self.last_event + seconds, 3, lambda s=seconds: self._fire_idle(s)))
         if not found:
@@ -266,33 +253,23 @@ class LiveSession:
         for run in (self.main, self.active):
             if run is not None and run.waiting is not None and matches(run.waiting[0].event, event):
                 self._woken(run, at, go=False)
-        for handler in [h for h in self._kinds.get(event.kind, ()) if matches(h.on.event, event)]:
+        live = [h for h in self._kinds.get(event.kind, ()) if self.states.live(h.state)]
+        for handler in [h for h in live if matches(h.on.event, event)]:
             self._offer(handler, event, at)
         self._drive(at)
 
     def _offer(self, handler: Handler, event: n.Event, at: float) -> None:
-        on = handler.on
-        if on.cooldown and handler.last_start is not None and at < handler.last_start + on.cooldown:
+        queued = sum(1 for h, _ in self.pending if h is handler)
+        why = why_dropped(handler, at, self.active, queued)
+        if why is not None:
             handler.dropped += 1
-            until = f"{handler.label} cools down till {handler.last_start + on.cooldown:.2f} s"
-            self._note(at, Kind.DROPPED, f"dropped {in_words(event)}: {until}")
-            return
-        if self.active is None:
-            self._start(handler, at, cut=on.policy == "interrupt")
-        elif on.policy == "drop":
-            handler.dropped += 1
-            whose = "" if self.active.handler is handler else f" for {handler.label}"
-            self._note(at, Kind.DROPPED, f"dropped {in_words(event)}{whose}: {self.active.label} is running")
-        elif on.policy == "queue":
-            if sum(1 for h, _ in self.pending if h is handler) >= MAX_QUEUE:
-                handler.dropped += 1
-                self._note(
-                    at, Kind.DROPPED, f"dropped {in_words(event)}: {handler.label} has {MAX_QUEUE} queued"
-                )
-            else:
-                handler.queued += 1
-                self.pending.append((handler, event))
-                self._note(at, Kind.QUEUED, f"queued {in_words(event)} for {handler.label}")
+            self._note(at, Kind.DROPPED, f"dropped {in_words(event)}{why}")
+        elif self.active is None:
+            self._start(handler, at, cut=handler.on.policy == "interrupt")
+        elif handler.on.policy == "queue":
+            handler.queued += 1
+            self.pending.append((handler, event))
+            self._note(at, Kind.QUEUED, f"queued {in_words(event)} for {handler.label}")
         else:
             self._note(at, Kind.INTERRUPTED, f"{self.active.label} interrupted")
             self._pause(self.active, at)  # it may be between steps: raising this very signal
@@ -398,12 +375,35 @@ class LiveSession:
             self._play(run, step, at)
         elif isinstance(step, Await):
             run.waiting = (step.statement, at)
+        elif isinstance(step, Goto):
+            self._go_to(run, step.statement, at)
         elif isinstance(step, Lap):
             rest = round_rest(step.frame, at)  # a wait that begins nothing new: nothing to compile
             if rest is not None:
                 run.playing = (rest, at, at + rest.statement.duration)
         else:
             self._dispatch(n.Event("signal", step.statement.name), at, f"line {step.statement.pos.line}")
+
+    def _go_to(self, run: Run, go: n.Go, at: float) -> None:
+        """`go NAME` in `run`: what runs stops as an `interrupt` stops it, and the state's body
+        becomes what the face does (session_states.py); or one line saying why it cannot."""
+        name, why = self.states.target(go, at)
+        said = f"line {go.pos.line} 'go {go.name}'"
+        if name is None:
+            self._note(at, Kind.STOPPED, f"{run.label}: {said} {why}")
+            if why.startswith("stopped"):
+                self._finished(run, at)
+            return
+        if self.active is not None and self.active is not run:
+            self._note(at, Kind.TAKEN_OVER, f"{self.active.label} stopped: the face goes to state {name}")
+        self._pause(self.active, at)
+        self.active = None
+        self.pending.clear()
+        self._pause(self.main, at)
+        state, script = self.states.enter(name)
+        self._note(at, Kind.ENTERED, f"state {name} entered: {run.label}, {said}")
+        self.main = Run(Runner(state.body, script.definitions, self.rng), script, f"state {name}")
+        self.main.carry = False  # what the face was doing stops where it is
 
     def _finished(self, run: Run, at: float) -> None:
         run.done = True

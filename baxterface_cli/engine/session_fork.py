@@ -31,7 +31,7 @@ from .session_records import Handler, Run
 _SESSION = {
     "lock", "face", "rng", "recordings", "crossfade", "clock", "handlers", "main", "active", "pending",
     "log", "logged", "segments", "cues", "exited", "ignored", "last_event", "_idle_fired", "_every",
-    "_burst", "steps", "exited_at", "_kinds", "keep_up", "_behind", "_driving",
+    "_burst", "steps", "exited_at", "_kinds", "keep_up", "_behind", "_driving", "states",
 }  # fmt: skip
 _FACE = {"rng", "recordings", "idle_on", "max_queue", "queue", "_robot", "pending", "_playing"}
 _RUN = {"runner", "script", "label", "handler", "playing", "exiting", "waiting", "done", "carry"}
@@ -82,6 +82,7 @@ def fork(session: LiveSession) -> LiveSession:
         twin.cues = list(session.cues)
         twin._idle_fired = set(session._idle_fired)
         twin._every = session._every.copy()
+        twin.states = session.states.copy()
         return twin
 
 

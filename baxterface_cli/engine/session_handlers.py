@@ -18,14 +18,25 @@ from typing import Dict, Iterator, List, Optional, Sequence, Tuple
 from ..core.face_constants import LIMITS
 from ..language import syntax_tree as n
 from ..language.diagnostics import Diagnostic, ScriptError
-from .session_records import Handler
+from .session_records import Handler, Run
 
-Key = Tuple[str, str, float]
+Key = Tuple[str, str, str, float]
+MAX_QUEUE = 32  # events a `queue` handler holds; more are dropped, and counted
 
 
-def key_of(event: n.Event) -> Key:
-    """What makes two handlers the same event's: a later one replaces the earlier."""
-    return (event.kind, event.arg, event.seconds)
+def key_of(handler: Handler) -> Key:
+    """What makes two handlers the same: the same event in the same state (or both in none); a
+    later one replaces the earlier."""
+    event = handler.on.event
+    return (handler.state or "", event.kind, event.arg, event.seconds)
+
+
+def ons_of(script: n.Script) -> List[Tuple[n.On, Optional[str]]]:
+    """The script's handlers, each with the state it is live in (None: every state)."""
+    found: List[Tuple[n.On, Optional[str]]] = [(s, None) for s in script.body if isinstance(s, n.On)]
+    for state in (s for s in script.body if isinstance(s, n.State)):
+        found.extend((s, state.name) for s in state.body if isinstance(s, n.On))
+    return found
 
 
 def calls_needed(body: Sequence[n.Statement], definitions: Dict[str, n.Define]) -> Tuple[n.Define, ...]:
@@ -50,15 +61,15 @@ def install(installed: List[Handler], script: n.Script) -> Tuple[List[Handler], 
     """`installed` with `script`'s handlers added, each replacing an installed handler of its
     event (a script's own are all kept: the first starts, the others follow their policies), and
     the handlers replaced. ScriptError, and nothing changed, past the bounds."""
-    ons = [s for s in script.body if isinstance(s, n.On)]
+    ons = ons_of(script)
     if not ons:
         return installed, []
-    keys = {key_of(on.event) for on in ons}
-    kept = [h for h in installed if key_of(h.on.event) not in keys]
-    replaced = [h for h in installed if key_of(h.on.event) in keys]
-    _within_bounds(kept, ons, script)
     definitions = script.definitions
-    added = [Handler(on, kept_for(script, on.body, definitions)) for on in ons]
+    added = [Handler(on, kept_for(script, on.body, definitions), state) for on, state in ons]
+    keys = {key_of(h) for h in added}
+    kept = [h for h in installed if key_of(h) not in keys]
+    replaced = [h for h in installed if key_of(h) in keys]
+    _within_bounds(kept, [on for on, _ in ons], script)
     return kept + added, replaced
 
 
@@ -86,6 +97,23 @@ def _within_bounds(kept: List[Handler], ons: List[n.On], script: n.Script) -> No
         else:
             continue
         raise ScriptError([Diagnostic(on.pos.line, on.pos.column, why)], script.filename, script.source)
+
+
+def why_dropped(handler: Handler, at: float, active: Optional[Run], queued: int) -> Optional[str]:
+    """Why `handler`'s event at `at` is let go, as the log says it after "dropped EVENT"; None if
+    its handler takes it (starts, queues or interrupts), by its policy, with `active` running and
+    `queued` of its events waiting."""
+    on = handler.on
+    if on.cooldown and handler.last_start is not None and at < handler.last_start + on.cooldown:
+        return f": {handler.label} cools down till {handler.last_start + on.cooldown:.2f} s"
+    if active is None:
+        return None
+    if on.policy == "drop":
+        whose = "" if active.handler is handler else f" for {handler.label}"
+        return f"{whose}: {active.label} is running"
+    if on.policy == "queue" and queued >= MAX_QUEUE:
+        return f": {handler.label} has {MAX_QUEUE} queued"
+    return None
 
 
 def by_kind(handlers: Sequence[Handler]) -> Dict[str, List[Handler]]:

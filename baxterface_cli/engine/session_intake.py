@@ -233,8 +233,9 @@ class SessionIntake(ClosedOnExit):
         return bool(self._takeovers) or bool(self._texts) or bool(self._events)
 
     def _until_due(self) -> Optional[float]:
-        due = self.session.next_due_at()
-        return None if due is None else due - self.clock()
+        with self.session.lock:
+            due = self.session.next_due()
+        return None if due is None else due[0] - self.clock()
 
     def _next_input(self):
         """The input that came first, or None (only time passed)."""

@@ -2,7 +2,7 @@
 
 The session (live_session.py) runs the main script and each handler's run as a `Runner`: a
 statement the compiler can take is handed out whole, to be compiled and played from the face as
-it is; `wait until` and `signal` are handed out for the session to do; `repeat`, calls and
+it is; `wait until`, `signal` and `go` are handed out for the session to do; `repeat`, calls and
 `forever` that hold them are walked here, and `one of` chooses here, from the session's seeded
 random stream, so the same seed makes the same choices.
 """
@@ -16,7 +16,7 @@ from ..language import syntax_tree as n
 from ..language.diagnostics import Diagnostic, ScriptError
 from ..language.statements import describe
 
-_CHOOSING = (n.OneOf, n.WaitUntil, n.Forever, n.Signal)  # what the compiler never sees
+_CHOOSING = (n.OneOf, n.WaitUntil, n.Forever, n.Signal, n.Go)  # what the compiler never sees
 
 
 class Play(NamedTuple):
@@ -33,13 +33,19 @@ class Raise(NamedTuple):
     statement: n.Signal
 
 
+class Goto(NamedTuple):
+    """`go NAME`: the session enters the state (session_states.py)."""
+
+    statement: n.Go
+
+
 class Lap(NamedTuple):
     """A round of a `forever` begins: the session makes each last `LIMITS.least_round` at least."""
 
     frame: _Frame
 
 
-Step = Union[Play, Await, Raise, Lap]
+Step = Union[Play, Await, Raise, Goto, Lap]
 
 
 class _Frame:
@@ -108,10 +114,12 @@ class Runner:
         return None
 
     def _step(self, s: Any) -> Optional[Step]:
-        if isinstance(s, (n.Define, n.On)):
+        if isinstance(s, (n.Define, n.On, n.State)):
             return None
         if isinstance(s, n.WaitUntil):
             return Await(s)
+        if isinstance(s, n.Go):
+            return Goto(s)
         if isinstance(s, n.Signal):
             return Raise(s)
         if isinstance(s, n.OneOf):

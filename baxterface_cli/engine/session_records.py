@@ -29,6 +29,7 @@ class Kind:
     REPLACED = "replaced"  # a handler sent later replaced the one for its event
     STOPPED = "stopped"  # a run stopped by a bound: steps or starts at one instant, falling behind
     TAKEN_OVER = "taken over"  # a handler's run stopped by a new main script
+    ENTERED = "entered"  # the face entered a state
     EXITED = "exited"  # the face exited
 
 
@@ -43,9 +44,10 @@ class Logged(NamedTuple):
 class Handler:
     """An `on` installed in the session, with its counts."""
 
-    def __init__(self, on: n.On, script: n.Script) -> None:
+    def __init__(self, on: n.On, script: n.Script, state: Optional[str] = None) -> None:
         self.on = on
         self.script = script
+        self.state = state  # live only while the face is in this state; None: in every state
         self.label = f"line {on.pos.line} 'on {in_words(on.event)}'"
         self.runs = 0
         self.dropped = 0

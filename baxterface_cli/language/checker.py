@@ -191,7 +191,7 @@ def _measure_one(statement: Any, called: Dict[str, Measure], timed: Seconds = st
     if isinstance(statement, n.OneOf):  # the longest choice; every choice is compiled, one at a time
         choices = [measure(choice, called, timed) for choice in statement.choices]
         return max(c[0] for c in choices), sum(c[1] for c in choices)
-    if isinstance(statement, n.On):  # a handler's length is its own (reaction_checks.py), not the script's
+    if isinstance(statement, (n.On, n.State)):  # its length is its own (reaction_checks.py), not the script's
         return 0.0, measure(statement.body, called, timed)[1]
     if isinstance(statement, n.Forever):  # one round: the rounds after it are the session's
         return measure(statement.body, called, timed)
@@ -302,7 +302,7 @@ def _exit_line(body: Sequence[Any], ends: Dict[str, int], out: List[Diagnostic])
     """
     ended: Optional[int] = None
     for statement in body:
-        if isinstance(statement, (n.Define, n.On)):  # a handler's exit ends it, not what follows
+        if isinstance(statement, (n.Define, n.On, n.State)):  # a handler's exit ends it, not what follows
             continue
         if ended is not None:
             pos = statement.pos

@@ -14,11 +14,12 @@ from .diagnostics import Diagnostic
 from .events import in_words
 from .script_length import in_words as length_in_words
 from .script_length import over_limit
+from .state_checks import check_states
 
 # What cannot run inside a `together`, whose statements are compiled side by side into one
 # timeline: each of these holds the session up, or hands it an event, at its own moment.
-_ON_THEIR_OWN = (n.WaitUntil, n.Forever, n.Signal, n.On)
-_NAMES = {n.WaitUntil: "wait until", n.Forever: "forever", n.Signal: "signal", n.On: "on"}
+_ON_THEIR_OWN = (n.WaitUntil, n.Forever, n.Signal, n.On, n.Go)
+_NAMES = {n.WaitUntil: "wait until", n.Forever: "forever", n.Signal: "signal", n.On: "on", n.Go: "go"}
 
 Measure = Callable[[Sequence[Any]], Tuple[float, int]]
 
@@ -37,18 +38,23 @@ def check_reactions(
     for name in order:
         if any(_waits(s, waiting) for s in _inside(definitions[name].body)):
             waiting.add(name)
-    seen: Dict[Tuple[str, str, float], int] = {}
+    seen: Dict[Tuple[str, str, str, float], int] = {}
     handlers = every = 0
-    for statement in body:
+    for statement, state in _top_levels(body):
         if isinstance(statement, n.On):
-            _handler(statement, measure, seen, out)
+            _handler(statement, state, measure, seen, out)
             handlers += 1
             every += statement.event.kind == "every"
             _too_many(statement, handlers, every, out)
-        if isinstance(statement, n.BLOCKS):
+        if isinstance(statement, n.BLOCKS) and not isinstance(statement, n.State):
             for inner in _inside(statement.body):
                 if isinstance(inner, n.On):
-                    _error(out, inner, "'on' is only allowed at the top level of a script")
+                    _error(out, inner, "'on' is only allowed at the top level of a script or of a state")
+        if isinstance(statement, n.BLOCKS) and state is None:
+            for inner in _inside(statement.body):
+                if isinstance(inner, n.State):
+                    _error(out, inner, "'state' is only allowed at the top level of a script")
+    check_states(body, _everything(body), out)
     for statement in _everything(body):
         if isinstance(statement, n.Together):
             _together(statement, held, out)
@@ -57,6 +63,14 @@ def check_reactions(
     for sequence in _sequences(body):
         _after_forever(sequence, out)
     _phrases(_everything(body), out)
+
+
+def _top_levels(body: Sequence[Any]) -> List[Tuple[Any, Optional[str]]]:
+    """The script's statements and each state's own, with the state each is in (None: the script)."""
+    found: List[Tuple[Any, Optional[str]]] = [(s, None) for s in body]
+    for state in (s for s in body if isinstance(s, n.State)):
+        found.extend((s, state.name) for s in state.body)
+    return found
 
 
 def _error(out: List[Diagnostic], node: Any, message: str, severity: str = "error") -> None:
@@ -154,7 +168,7 @@ def _too_many(handler: n.On, handlers: int, every: int, out: List[Diagnostic]) -
 def _after_forever(sequence: Sequence[Any], out: List[Diagnostic]) -> None:
     running: Optional[n.Forever] = None
     for statement in sequence:
-        if isinstance(statement, (n.Define, n.On)):  # handlers and definitions run from elsewhere
+        if isinstance(statement, (n.Define, n.On, n.State)):  # these run from elsewhere
             continue
         if running is not None:
             message = f"never runs: 'forever' on line {running.pos.line} does not end"
@@ -165,10 +179,14 @@ def _after_forever(sequence: Sequence[Any], out: List[Diagnostic]) -> None:
 
 
 def _handler(
-    handler: n.On, measure: Measure, seen: Dict[Tuple[str, str, float], int], out: List[Diagnostic]
+    handler: n.On,
+    state: Optional[str],
+    measure: Measure,
+    seen: Dict[Tuple[str, str, str, float], int],
+    out: List[Diagnostic],
 ) -> None:
-    key = (handler.event.kind, handler.event.arg, handler.event.seconds)
-    if key == ("signal", "?", 0.0):  # an event already reported as unknown: no second word on it
+    key = (state or "", handler.event.kind, handler.event.arg, handler.event.seconds)
+    if key[1:] == ("signal", "?", 0.0):  # an event already reported as unknown: no second word on it
         pass
     elif key in seen:
         message = (

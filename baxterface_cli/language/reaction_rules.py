@@ -107,6 +107,14 @@ class ReactionRules:
         at, name = children
         return n.Signal(str(name).lower(), pos=self._pos(at))
 
+    def state(self, children: List[Any]) -> n.State:
+        at, name, body = children
+        return n.State(str(name).lower(), self._body(at, "state", body), pos=self._pos(at))
+
+    def go(self, children: List[Token]) -> n.Go:
+        at, name = children
+        return n.Go(str(name).lower(), pos=self._pos(at))
+
     def forever(self, children: List[Any]) -> n.Forever:
         at, body = children
         return n.Forever(self._body(at, "forever", body), pos=self._pos(at))

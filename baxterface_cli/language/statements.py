@@ -214,6 +214,8 @@ _SESSION = (
     ),
     Kind(n.Signal, words=("signal",), in_words=lambda s: f"signal {s.name}"),
     Kind(n.OneOf, words=("one", "of"), in_words=lambda s: "one of"),
+    Kind(n.State, words=("state",), in_words=lambda s: f"state {s.name}"),
+    Kind(n.Go, words=("go",), in_words=lambda s: f"go {s.name}"),
 )
 SESSION_KINDS: Dict[type, Kind] = {kind.node: kind for kind in _SESSION}
 

@@ -303,6 +303,25 @@ class OneOf(Block):
 
 
 @dataclass(frozen=True)
+class State(Block):
+    """`state asleep { sleep; on button wheel { go awake } }`: its body runs when the face enters
+    it, and its own handlers are live only while the face is in it."""
+
+    name: str
+    body: Tuple[Statement, ...]
+    pos: Pos = _pos()
+
+
+@dataclass(frozen=True)
+class Go(Statement):
+    """`go awake`: leave the state the face is in (what it does stops, as an `interrupt` stops it)
+    and enter `awake`; `go back` (name "back") returns to the state the face came from."""
+
+    name: str
+    pos: Pos = _pos()
+
+
+@dataclass(frozen=True)
 class WaitUntil(Statement):
     """`wait until face seen timeout 5s`: hold here until the event comes (or the timeout,
     None for none, passes)."""
@@ -335,6 +354,10 @@ class Script:
     @property
     def definitions(self) -> Dict[str, Define]:
         return {s.name: s for s in self.body if isinstance(s, Define)}
+
+    @property
+    def states(self) -> Dict[str, State]:
+        return {s.name: s for s in self.body if isinstance(s, State)}
 
 
 BLOCKS = tuple(

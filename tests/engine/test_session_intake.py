@@ -9,7 +9,8 @@ from typing import List, Tuple
 
 import pytest
 
-from baxterface_cli.engine.live_session import MAX_QUEUE, LiveSession
+from baxterface_cli.engine.live_session import LiveSession
+from baxterface_cli.engine.session_handlers import MAX_QUEUE
 from baxterface_cli.engine.session_intake import SessionIntake
 from baxterface_cli.language import syntax_tree as n
 from tests.support.waiting import eventually

@@ -8,7 +8,8 @@ import threading
 from collections import Counter
 
 from baxterface_cli import parse
-from baxterface_cli.engine.live_session import MAX_LOG, MAX_QUEUE, LiveSession
+from baxterface_cli.engine.live_session import MAX_LOG, LiveSession
+from baxterface_cli.engine.session_handlers import MAX_QUEUE
 from baxterface_cli.language import syntax_tree as n
 
 SCRIPT = """on face seen cooldown 2s { happy }

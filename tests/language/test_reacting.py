@@ -130,7 +130,7 @@ def test_wait_until_signal_forever_and_one_of():
         ),
         (
             "repeat 2 { on face seen { blink } }",
-            "t.face:1:12: error: 'on' is only allowed at the top level of a script",
+            "t.face:1:12: error: 'on' is only allowed at the top level of a script or of a state",
         ),
         (
             "together { wait until face seen; blink }",
