@@ -3,7 +3,7 @@
 `$XDG_CACHE_HOME/baxterface/`, or `~/.cache/baxterface/`: the parser's tables (language/)
 and the mouths heard in recordings (speech/). A folder of the user's own (0700, as every
 folder baxterface makes), never a shared temporary one: what is kept there is loaded back
-as it was written. What grows with use is trimmed by bytes (`trim`).
+as it was written. What grows with use is trimmed by bytes, and by count where asked (`trim`).
 """
 
 from __future__ import annotations
@@ -48,18 +48,21 @@ def made_cache_folder(*parts: str) -> Optional[Path]:
     return folder if os.access(folder, os.W_OK) else None
 
 
-def trim(folder: Path, pattern: str, most: int) -> None:
+def trim(folder: Path, pattern: str, most: int, most_files: Optional[int] = None) -> None:
     """Remove the files of `folder` matching `pattern` least recently used first (by their
-    modification time, which a reader touches), until they take at most `most` bytes."""
+    modification time, which a reader touches), until they take at most `most` bytes and are
+    at most `most_files` (if given)."""
     found = []
     for path in folder.glob(pattern):
         with contextlib.suppress(OSError):
             info = path.stat()
             found.append((info.st_mtime_ns, info.st_size, path))
     total = sum(size for _, size, _ in found)
+    count = len(found)
     for _, size, path in sorted(found, key=lambda row: row[0])[:-1]:  # the newest stays, however big
-        if total <= most:
+        if total <= most and (most_files is None or count <= most_files):
             break
+        count -= 1
         with contextlib.suppress(OSError):
             path.unlink()
         total -= size

@@ -89,20 +89,30 @@ def hear(
     `spell(word)` gives ARPAbet phones for a word the dictionary lacks (None: it is left out).
     Words that do not fit the sound are dropped, and the phonemes decoded instead.
     """
-    data = np.asarray(sound, "<i2").tobytes()
-    if words.strip() and len(sound) <= ALIGN_SECONDS * ANALYSIS_RATE:
-        with _LOCK:
-            for kind in ("align", "align-wide"):
-                aligned = _align(_decoder(kind), data, words, spell)
-                if aligned is not None:
-                    return aligned
+    aligned = align(sound, words, spell)
+    if aligned is not None:
+        return aligned
     if recognise is not None:
         return _recognised(sound, recognise)
     if _flat(sound):
         return Heard(_contiguous([], len(sound) / ANALYSIS_RATE), (), False)  # nothing said
     with _LOCK:
-        phones = _phone_loop(data)
+        phones = _phone_loop(np.asarray(sound, "<i2").tobytes())
     return Heard(_contiguous(phones, len(sound) / ANALYSIS_RATE), (), False)
+
+
+def align(sound: np.ndarray, words: str, spell: Optional[Any] = None) -> Optional[Heard]:
+    """`words` aligned to int16 mono `sound` at ANALYSIS_RATE, as `hear` aligns them; None where
+    there are none, they do not fit the sound, or it is longer than ALIGN_SECONDS."""
+    if not words.strip() or len(sound) > ALIGN_SECONDS * ANALYSIS_RATE:
+        return None
+    data = np.asarray(sound, "<i2").tobytes()
+    with _LOCK:
+        for kind in ("align", "align-wide"):
+            aligned = _align(_decoder(kind), data, words, spell)
+            if aligned is not None:
+                return aligned
+    return None
 
 
 def _phone_loop(data: bytes) -> List[Tuple[float, float, str]]:

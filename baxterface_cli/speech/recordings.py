@@ -20,6 +20,8 @@ default `~/.cache/...`), so a script plays at once the second time:
   the extra where pocketsphinx is what is missing.
 
 The mouth then follows them by the same table and rules as `say` (visemes.py).
+What does not depend on the words (the sound, its loudness, the phonemes found
+without words) is found once a recording, for every `text` said of it.
 """
 
 from __future__ import annotations
@@ -62,11 +64,15 @@ ANALYSIS_VERSION = 1  # a new one leaves what the old analysis kept unread
 # Recordings kept in memory (the studio compiles its script at every edit), by the bytes of their
 # sound: a ten-minute one at 48 kHz is 58 MB.
 KEPT_BYTES = 128 * 2**20
-CACHE_BYTES = 32 * 2**20  # analyses kept on disk; the least recently used go first
+# Analyses kept on disk, by their bytes and their number; the least recently used go first.
+CACHE_BYTES, CACHE_FILES = 32 * 2**20, 2000
+RECITALS_KEPT = 32  # the texts (and languages) said of each recording kept in memory
+UNALIGNED = "unaligned"  # kept for words that do not fit their recording: not aligned again
 NO_POCKETSPHINX = (
     f"lip-sync from a recording hears its phonemes with pocketsphinx: pip install 'baxterface[{EXTRA}]'; "
     "the mouth follows its loudness and spectrum instead"
 )
+Analysis = Tuple[Tuple[Phoneme, ...], Tuple[Word, ...], str]  # phonemes, words, METHODS key
 _warned: List[str] = []
 _recent: OrderedDict = OrderedDict()
 _LOCK = threading.Lock()
@@ -169,11 +175,40 @@ class Recordings:
         except (AudioError, OSError) as e:
             raise RecordingError(_unreadable(say.file or "", str(e)), say) from None
         method = _method(say.language, self.warn)
-        key = (path, info.st_mtime_ns, info.st_size, say.text, say.language, method)
+        key, said = (path, info.st_mtime_ns, info.st_size), (say.text, say.language, method)
         with _LOCK:
-            if key in _recent:
+            heard = _recent.get(key)
+            if heard is not None:
                 _recent.move_to_end(key)
-                return _recent[key]
+                recital = heard.recitals.get(said)
+                if recital is not None:
+                    heard.recitals.move_to_end(said)
+                    return recital
+        if heard is None:
+            heard = self._read(path, say)
+        phonemes, words, method = self._analysis(heard, method, say)
+        utterance = Utterance(
+            say.text,
+            say.language or "",
+            0,
+            heard.sound.samples,
+            heard.sound.rate,
+            bridged(phonemes, heard.sound.samples, heard.sound.rate, heard.rules),
+            words,
+            Recording(path, say.file or "", heard.digest, METHODS[method]),
+        )
+        recital = Recital(utterance, mouth_track(utterance, heard.rules))
+        with _LOCK:
+            _recent[key] = heard
+            heard.recitals[said] = recital
+            while len(heard.recitals) > RECITALS_KEPT:
+                heard.recitals.popitem(last=False)
+            while len(_recent) > 1 and sum(_held(h) for h in _recent.values()) > KEPT_BYTES:
+                _recent.popitem(last=False)
+        return recital
+
+    def _read(self, path: str, say: n.Say) -> _Heard:
+        """What a recording is whatever its words: its sound, content and noise floor."""
         try:
             sound = read_sound(path)
         except AudioError as e:
@@ -182,64 +217,89 @@ class Recordings:
             digest = _digest(path)
         except (HeaderError, OSError) as e:  # swapped since it was read
             raise RecordingError(_unreadable(say.file or "", str(e)), say) from None
-        phonemes, words, method = self._analysis(sound, digest, method, say)
-        rules = heard_rules(sound.samples, sound.rate)
-        utterance = Utterance(
-            say.text,
-            say.language or "",
-            0,
-            sound.samples,
-            sound.rate,
-            bridged(phonemes, sound.samples, sound.rate, rules),
-            words,
-            Recording(path, say.file or "", digest, METHODS[method]),
-        )
-        recital = Recital(utterance, mouth_track(utterance, rules))
-        with _LOCK:
-            _recent[key] = recital
-            while len(_recent) > 1 and sum(_held(r) for r in _recent.values()) > KEPT_BYTES:
-                _recent.popitem(last=False)
-        return recital
+        return _Heard(sound, digest, heard_rules(sound.samples, sound.rate), {}, OrderedDict())
 
-    def _analysis(
-        self, sound: Any, digest: str, method: str, say: n.Say
-    ) -> Tuple[Tuple[Phoneme, ...], Tuple[Word, ...], str]:
+    def _analysis(self, heard: _Heard, method: str, say: n.Say) -> Analysis:
+        """The phonemes of the recording: its words aligned where `say` gives them and they fit it,
+        else what is found in the sound alone, which is found once whatever the words."""
         # analyses are kept in `$XDG_CACHE_HOME/baxterface/lipsync`, or `~/.cache/...`
         folder = self.cache or user_cache.cache_folder("lipsync")
+        sound = heard.sound
         # Only an alignment reads the words, in English: a new `text` for a long recording, or for
         # another language, is the same analysis.
         english = _english(say.language)
         aligns = method != "spectrum" and len(sound.analysis) <= phones_heard.ALIGN_SECONDS * ANALYSIS_RATE
         text = say.text if aligns and english else ""
-        name = f"{ANALYSIS_VERSION}\n{digest}\n{method}\n{say.language or ''}\n{text}"
-        kept = folder / (hashlib.sha256(name.encode("utf-8")).hexdigest() + ".json")
+        if text.strip():
+            kept = _kept_name(folder, heard.digest, method, say.language, text)
+            found = _read_kept(kept)
+            if found is None:
+                aligned = phones_heard.align(sound.analysis, text, _spell)
+                found = UNALIGNED
+                if aligned is not None:
+                    phonemes = espeak_phonemes(aligned.phones, sound.analysis, ANALYSIS_RATE)
+                    found = phonemes, tuple(Word(at, text) for at, text in aligned.words), "aligned"
+                _keep(folder, kept, found)
+            if found is not UNALIGNED:
+                return found
+        plain = (method, say.language or "")
+        if plain not in heard.plain:  # without words: found once a recording, way and language
+            heard.plain[plain] = self._plain(folder, heard, method, say.language, english)
+        return heard.plain[plain]
+
+    def _plain(
+        self, folder: Path, heard: _Heard, method: str, language: Optional[str], english: bool
+    ) -> Analysis:
+        kept = _kept_name(folder, heard.digest, method, language, "")
         found = _read_kept(kept)
-        if found is not None:
-            with contextlib.suppress(OSError):
-                os.utime(kept)  # recently used: kept the longest
+        if found is not None and found is not UNALIGNED:
             return found
+        sound = heard.sound
         if method == "spectrum":
-            phonemes, words = spectrum_phonemes(sound.analysis, ANALYSIS_RATE), ()
+            found = spectrum_phonemes(sound.analysis, ANALYSIS_RATE), (), method
         else:
             recognise = None
             if method == "recognised":
                 recognise = functools.partial(phoneme_recogniser.recognise, english=english)
-            heard = phones_heard.hear(sound.analysis, text, _spell, recognise)
-            phonemes = espeak_phonemes(heard.phones, sound.analysis, ANALYSIS_RATE)
-            words = tuple(Word(at, text) for at, text in heard.words)
-            method = "aligned" if heard.aligned else "recognised" if heard.recognised else "heard"
+            said = phones_heard.hear(sound.analysis, "", _spell, recognise)
+            phonemes = espeak_phonemes(said.phones, sound.analysis, ANALYSIS_RATE)
+            found = phonemes, (), "recognised" if said.recognised else "heard"
+        _keep(folder, kept, found)
+        return found
+
+
+class _Heard(NamedTuple):
+    """A recording as read, kept for every `say` of it: what does not depend on its words."""
+
+    sound: Any
+    digest: str
+    rules: MouthRules
+    plain: Dict[Tuple[str, str], Analysis]  # found without words, by (method, language)
+    recitals: OrderedDict  # by (text, language, method)
+
+
+def _kept_name(folder: Path, digest: str, method: str, language: Optional[str], text: str) -> Path:
+    name = f"{ANALYSIS_VERSION}\n{digest}\n{method}\n{language or ''}\n{text}"
+    return folder / (hashlib.sha256(name.encode("utf-8")).hexdigest() + ".json")
+
+
+def _keep(folder: Path, kept: Path, found: Union[Analysis, str]) -> None:
+    """Write an analysis (or that the words did not fit) to the cache folder, trimmed to its bounds."""
+    if found is UNALIGNED:
+        record: Dict[str, Any] = {"method": UNALIGNED}
+    else:
+        phonemes, words, method = found
         record = {
             "method": method,
             "phonemes": [[p.at, p.end, p.name] for p in phonemes],  # as they are: JSON keeps every bit
             "words": [[w.at, w.text] for w in words],
         }
-        try:
-            user_cache.make_private(folder)
-            write_atomic(kept, json.dumps(record).encode("utf-8"))
-            user_cache.trim(folder, "*.json", CACHE_BYTES)
-        except OSError:  # a cache that cannot be written only costs the next run the analysis
-            pass
-        return phonemes, words, method
+    try:
+        user_cache.make_private(folder)
+        write_atomic(kept, json.dumps(record).encode("utf-8"))
+        user_cache.trim(folder, "*.json", CACHE_BYTES, CACHE_FILES)
+    except OSError:  # a cache that cannot be written only costs the next run the analysis
+        pass
 
 
 def heard_rules(samples: np.ndarray, rate: int, rules: MouthRules = MOUTH_RULES) -> MouthRules:
@@ -313,9 +373,11 @@ def _unreadable(written: str, reason: str) -> str:
     return f"cannot read recording {written!r}: {reason}"
 
 
-def _held(recital: Recital) -> int:
-    """The bytes a recital keeps: its sound, and about as much again for its mouth and phonemes."""
-    return recital.utterance.samples.nbytes + 64 * (len(recital.mouth) + len(recital.utterance.phonemes))
+def _held(heard: _Heard) -> int:
+    """The bytes a recording keeps: its sound (and the same at the analysis rate), and about 64
+    for each phoneme and mouth shape of its recitals."""
+    shapes = sum(len(r.mouth) + len(r.utterance.phonemes) for r in heard.recitals.values())
+    return heard.sound.samples.nbytes + heard.sound.analysis.nbytes + 64 * shapes
 
 
 def _digest(path: str) -> str:
@@ -326,10 +388,15 @@ def _digest(path: str) -> str:
     return sha.hexdigest()
 
 
-def _read_kept(path: Path) -> Optional[Tuple[Tuple[Phoneme, ...], Tuple[Word, ...], str]]:
-    """A kept analysis; None when there is none, or it is not one (then it is made again)."""
+def _read_kept(path: Path) -> Union[None, Analysis, str]:
+    """A kept analysis (UNALIGNED: words that did not fit); None when there is none, or it is not
+    one (then it is made again). Read, it is recently used: kept the longest."""
     try:
         record = json.loads(path.read_text(encoding="utf-8"))
+        with contextlib.suppress(OSError):
+            os.utime(path)
+        if record["method"] == UNALIGNED:
+            return UNALIGNED
         phonemes = tuple(Phoneme(float(a), float(b), str(name)) for a, b, name in record["phonemes"])
         words = tuple(Word(float(at), str(text)) for at, text in record["words"])
         method = str(record["method"])

@@ -14,6 +14,7 @@ import os
 import shutil
 import subprocess
 import wave
+from collections import Counter, OrderedDict
 from pathlib import Path
 
 import numpy as np
@@ -170,6 +171,36 @@ def test_the_analysis_is_kept_by_content_and_read_back(recorded, aligned, monkey
     monkeypatch.setattr(phones_heard, "hear", lambda *a, **k: pytest.fail("analysed again"))
     again = said_from(folder, f'say file "copy.wav" text "{TEXT}"')
     assert again.mouth == aligned.mouth and again.utterance.words == aligned.utterance.words
+
+
+def test_a_new_text_for_a_recording_is_aligned_and_nothing_else_found_again(recorded, tmp_path, monkeypatch):
+    """The studio compiles its script at every press: a new `text` for the same recording is aligned
+    anew, but the recording is read, and what its sound says without words found, once."""
+    from baxterface_cli.speech import phones_heard, recordings
+
+    folder, _ = recorded
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))  # nothing kept on disk
+    monkeypatch.setattr(recordings, "_recent", OrderedDict())  # nor in memory
+    calls = Counter()
+
+    def counted(name, function):
+        def counting(*args, **kwargs):
+            calls[name] += 1
+            return function(*args, **kwargs)
+
+        return counting
+
+    monkeypatch.setattr(recordings, "read_sound", counted("read", recordings.read_sound))
+    monkeypatch.setattr(phones_heard, "hear", counted("heard without words", phones_heard.hear))
+    wrong = ["Completely different words are written here by mistake.", "Other words nobody said at all."]
+    said = [
+        said_from(folder, f'say file "said.wav" text "{text}"') for text in [TEXT, *wrong, "Bob met Pam."]
+    ]
+    assert calls == {"read": 1, "heard without words": 1}
+    assert said[1].utterance.recording.method == said[2].utterance.recording.method == without_words()
+    assert said[1].mouth == said[2].mouth and said[3].utterance.words != said[0].utterance.words
+    assert said_from(folder, f'say file "said.wav" text "{TEXT}"').mouth == said[0].mouth
+    assert calls == {"read": 1, "heard without words": 1}
 
 
 # -- files ------------------------------------------------------------------------------------------

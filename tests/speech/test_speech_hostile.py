@@ -228,6 +228,19 @@ def test_the_analysis_cache_is_private_and_bounded_by_bytes(tmp_path, monkeypatc
         assert folder.stat().st_mode & 0o777 == 0o700
 
 
+def test_the_analysis_cache_is_bounded_by_count(tmp_path, monkeypatch):
+    pytest.importorskip("av")
+    from baxterface_cli.speech import recordings as module
+
+    sox("-n", "-r", "16000", "-b", "16", "-c", "1", str(tmp_path / "tone.wav"), "synth", "1", "sine", "300")
+    cache = tmp_path / "cache"
+    recordings = module.Recordings(tmp_path, cache=cache)
+    monkeypatch.setattr(module, "CACHE_FILES", 3, raising=False)
+    for word in ("one", "two", "three", "four", "five", "six"):
+        recordings.recite(parse(f'say file "tone.wav" text "{word}"').body[0])
+    assert len(list(cache.glob("*.json"))) == 3
+
+
 def test_speech_remembered_is_bounded_by_bytes(engine, monkeypatch):
     from baxterface_cli.speech import synthesis
 
