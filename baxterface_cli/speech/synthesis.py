@@ -107,9 +107,12 @@ class Trim(NamedTuple):
 
 
 TRIM = Trim()
-# Utterances remembered (play, render and explain may each ask for the same one), by the bytes of
-# their sound: one of 1000 characters can be four minutes, 10 MB.
+# Utterances remembered (play, render and explain may each ask for the same one; the studio asks
+# for its script's at every edit), by the bytes of their sound: one of 1000 characters can be four
+# minutes, 10 MB. One asked for only once is among the last ONCE_KEPT: a face sent a new text at
+# every command (the node, the screen) keeps no more of them after 150 than after 20.
 CACHE_BYTES = 32 * 2**20
+ONCE_KEPT = 8
 # Texts espeak-ng crashed on, by (text, voice, rate), not tried again: each try costs a new process.
 FAILURES_KEPT = 256
 
@@ -118,6 +121,14 @@ _engine: Optional[SpeechEngine] = None
 
 
 _LOCK = threading.Lock()  # the engine's cache; synthesis itself goes on outside it
+
+
+def _bound(kept: OrderedDict, most: int) -> None:
+    """Forget the least recently used of `kept` until their sounds take at most `most` bytes (the
+    newest stays, however big)."""
+    held = sum(u.samples.nbytes for u in kept.values())
+    while len(kept) > 1 and held > most:
+        held -= kept.popitem(last=False)[1].samples.nbytes
 
 
 def unknown_voice_message(voice: str) -> str:
@@ -133,7 +144,8 @@ class SpeechEngine:
         self._process = process or EspeakProcess()
         self._process.start()  # MissingTool, said at once, without espeak-ng
         self.sample_rate = self._process.sample_rate
-        self._cache: OrderedDict[Tuple[str, str, int], Utterance] = OrderedDict()
+        self._cache: OrderedDict[Tuple[str, str, int], Utterance] = OrderedDict()  # asked for again
+        self._once: OrderedDict[Tuple[str, str, int], Utterance] = OrderedDict()  # asked for once
         self._failed: OrderedDict[Tuple[str, str, int], str] = OrderedDict()
 
     def say(self, text: str, voice: str = DEFAULT_VOICE, rate: int = DEFAULT_RATE) -> Utterance:
@@ -151,6 +163,11 @@ class SpeechEngine:
             if cached is not None:
                 self._cache.move_to_end(key)
                 return cached
+            cached = self._once.pop(key, None)
+            if cached is not None:  # asked for again: kept with the others that were
+                self._cache[key] = cached
+                _bound(self._cache, CACHE_BYTES)
+                return cached
             if key in self._failed:
                 raise SynthesisFailed(self._failed[key], crashed=True)
         try:
@@ -163,10 +180,10 @@ class SpeechEngine:
                         self._failed.popitem(last=False)
             raise
         with _LOCK:
-            self._cache[key] = utterance
-            held = sum(u.samples.nbytes for u in self._cache.values())
-            while len(self._cache) > 1 and held > CACHE_BYTES:
-                held -= self._cache.popitem(last=False)[1].samples.nbytes
+            self._once[key] = utterance
+            while len(self._once) > ONCE_KEPT:
+                self._once.popitem(last=False)
+            _bound(self._once, CACHE_BYTES)
         return utterance
 
     def voice_file(self, voice: str) -> str:

@@ -246,9 +246,12 @@ def test_speech_remembered_is_bounded_by_bytes(engine, monkeypatch):
 
     monkeypatch.setattr(synthesis, "CACHE_BYTES", 200_000)
     for n in range(6):
-        engine.say(f"Number {n} is said for a while, long enough to weigh something.", "en", 80)
-    held = sum(u.samples.nbytes for u in engine._cache.values())
-    assert 0 < held <= 200_000 or len(engine._cache) == 1
+        for times in (2, 1):  # kept as asked for again, and once
+            for _ in range(times):
+                engine.say(f"Number {n} is said {times} times, long enough to weigh something.", "en", 80)
+    for kept in (engine._cache, engine._once):
+        held = sum(u.samples.nbytes for u in kept.values())
+        assert 0 < held <= 200_000 or len(kept) == 1
 
 
 # -- the mouth of a recording heard without its words ----------------------------------------------
@@ -381,3 +384,37 @@ def test_a_node_killed_outright_leaves_no_genpy_folders_the_next_does_not_sweep(
     )
     assert again.returncode == 0, again.stderr
     assert list(tmp_path.iterdir()) == []  # the dead one's swept at start, its own at exit
+
+
+# -- what a live face keeps ------------------------------------------------------------------------
+
+
+def test_a_live_face_keeps_no_more_speech_after_150_new_says_than_after_20(engine, tmp_path, monkeypatch):
+    """The node's memory grew with every new text said on display_chatter (issue 43, 9c): each is
+    said once and never again, so none is kept past the few a repeat may ask for."""
+    import gc
+
+    from baxterface_cli.engine.effects import Speech
+    from baxterface_cli.engine.live_face import sleep_face
+    from baxterface_cli.engine.live_session import LiveSession
+    from baxterface_cli.ros.speakers import SoundPlaySpeaker
+    from baxterface_cli.speech.synthesis import Utterance
+
+    monkeypatch.setenv("TMPDIR", str(tmp_path))
+    speaker = SoundPlaySpeaker(_Link(), lambda line: None)
+    session = LiveSession(start=sleep_face(), idle=True, now=0.0, seed=None, keep_up=True)
+    gc.collect()
+    kept, now, spoken = {0: sum(type(o) is Utterance for o in gc.get_objects())}, 0.0, 0  # other tests'
+    for said in range(1, 151):
+        session.submit(f'say "Command number {said} is a sentence never said before."', now)
+        for at in (now + 0.05, now + 3.0):  # the speech starts, and ends
+            spoken += sum(
+                speaker.speak(c.effect) is None for c in session.tick(at)[1] if isinstance(c.effect, Speech)
+            )
+        now += 3.0
+        if said in (20, 150):
+            gc.collect()
+            kept[said] = sum(type(o) is Utterance for o in gc.get_objects())
+    speaker.close()
+    assert spoken == 150
+    assert kept[150] <= kept[20] <= kept[0] + 10, kept  # the last few, in case they are asked for again
