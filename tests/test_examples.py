@@ -58,4 +58,7 @@ def test_the_greeter_reacts_to_each_of_its_events():
         assert f"'{handler}' runs" in explained.out, handler
     assert "'on idle 30s' runs" in explained.out  # nobody came by for half a minute: bored, asleep
     assert "robot follow human" in explained.out and "robot follow off" in explained.out
-    assert "sleep" in explained.out.split("'on idle 30s' runs")[1]
+    assert "state asleep entered" in explained.out.split("'on idle 30s' runs")[1]
+    # Asleep, only the button matters: someone walking past before it wakes is not greeted.
+    asleep = explained.out.split("state awake entered")[0]
+    assert "event person near" in asleep and "'on person near' runs" not in asleep

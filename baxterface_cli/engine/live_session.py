@@ -416,7 +416,7 @@ class LiveSession:
             if self._start(handler, at, cut=False):
                 return
         if self.main is not None and not self.main.done and self.active is None:
-            self._note(at, Kind.RESUMED, "main script goes on")  # `_drive` takes it on
+            self._note(at, Kind.RESUMED, f"{self.main.label} goes on")  # `_drive` takes it on
 
     def _play(self, run: Run, step: Play, at: float) -> None:
         playing, started = self.face.timeline, self.face.started
