@@ -2,7 +2,6 @@
 
 from typing import Any
 
-from . import _moved
 from .core.face_state import FaceState, Parts
 from .language.diagnostics import Diagnostic, ScriptError
 from .language.parser import parse, parse_file
@@ -27,8 +26,6 @@ LAYERS = (
     "screen",
     "cli",
 )
-
-_moved.install()
 
 __all__ = [
     "Diagnostic",

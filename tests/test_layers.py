@@ -139,25 +139,6 @@ def test_no_two_module_names_differ_only_by_an_ending():
     assert not [group for group in by_stem.values() if len(group) > 1]
 
 
-def test_an_old_import_path_still_works_for_a_release_and_says_where_the_module_went():
-    import importlib
-    import sys
-    import warnings
-
-    from baxterface_cli._moved import MOVED
-
-    for old, new in MOVED.items():
-        sys.modules.pop(f"baxterface_cli.{old}", None)
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always")
-            module = importlib.import_module(f"baxterface_cli.{old}")
-        assert module is importlib.import_module(f"baxterface_cli.{new}")
-        said = [str(w.message) for w in caught if issubclass(w.category, DeprecationWarning)]
-        assert said == [
-            f"baxterface_cli.{old} is now baxterface_cli.{new}; the old name goes in the next release"
-        ]
-
-
 def test_a_bag_export_loads_neither_rospy_nor_the_robot_core_nor_the_camera(tmp_path):
     import subprocess
     import sys

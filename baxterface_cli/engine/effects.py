@@ -103,23 +103,6 @@ class Speech(Effect):
 
 EFFECTS = (HeadPan, HeadNod, SetEnabled, SetFollowing, ShutDown, Speech)
 
-# The effects' names before they were told apart from the statements (`Follow`, `Exit` in
-# language/syntax_tree.py) that make them: still importable, with a warning, for a release.
-_OLD_NAMES = {"Follow": "SetFollowing", "Exit": "ShutDown"}
-
-
-def __getattr__(name: str) -> Any:
-    if name not in _OLD_NAMES:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    import warnings
-
-    warnings.warn(
-        f"{__name__}.{name} is now {_OLD_NAMES[name]}; the old name goes in the next release",
-        DeprecationWarning,
-        stacklevel=2,
-    )
-    return globals()[_OLD_NAMES[name]]
-
 
 class Cue(NamedTuple):
     """An effect at a time (seconds from the start of its timeline)."""

@@ -6,12 +6,3 @@ camera_watch (a person's face in the head camera, from 24 pixels wide),
 navigator_buttons (Baxter's buttons as face commands), rehearsal (a recorded trace or camera
 images in place of the sensors: `--follow-from`).
 """
-
-from typing import Any
-
-
-def __getattr__(name: str) -> Any:
-    # `robot` was a module before it was a room: its old names still work for a release.
-    from .._moved import room_attribute
-
-    return room_attribute("robot", name)

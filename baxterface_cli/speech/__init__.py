@@ -3,12 +3,3 @@
 espeak (the espeak-ng C library through ctypes) -> synthesis (utterances) -> visemes (timed
 mouth shapes); soundtrack mixes a script's utterances; sound_device plays them on this machine.
 """
-
-from typing import Any
-
-
-def __getattr__(name: str) -> Any:
-    # `speech` was a module before it was a room: its old names still work for a release.
-    from .._moved import room_attribute
-
-    return room_attribute("speech", name)
