@@ -1,18 +1,18 @@
-"""A face that runs for as long as it is wanted, taking commands as they come.
+"""The face a live session plays on, taking each timeline as it is handed over.
 
-The face node is this plus ROS. Each command is parsed and compiled by the
-same engine as `play` and `render`, starting from the face as it is at that
-moment; it takes over from whatever was playing (or waits its turn, when
-queued). Idle blinks go on between and after commands. Robot effects (head,
-nod, enable, follow, exit) fall due as time passes and are handed out once;
-the robot's status (following, exited) carries over from script to script.
+A `LiveSession` (live_session.py) is the node's, the screen's and `stream`'s engine: it compiles
+each step of its scripts and handlers and hands the timeline here with `begin`; the screen also
+compiles a plain command here itself (`take_over`: `prepare` from the face as it is at that
+moment) and begins it. The face plays one timeline at a time, each taking over from the one
+before, with idle blinks on top between and after them. Robot effects (head, nod, enable,
+follow, exit) fall due as time passes and are handed out once (`due`); the robot's status
+(following, exited) carries over from timeline to timeline.
 """
 
 from __future__ import annotations
 
 import random
-from collections import deque
-from typing import TYPE_CHECKING, Deque, List, Optional
+from typing import TYPE_CHECKING, List, Optional
 
 from ..core.face_constants import EMOTIONS
 from ..core.face_state import FaceState
@@ -22,14 +22,12 @@ from ..language.syntax_tree import Script
 from .animation import Idle
 from .compiler import Carry, compile_script
 from .effects import Cue, RobotStatus, StatusFold
-from .session_program import not_here
 from .timeline import Timeline
 
 if TYPE_CHECKING:
     from ..speech.recordings import Recordings
 
 IDLE_AHEAD = 30.0  # seconds of idle blinks planned ahead of the clock
-MAX_QUEUE = 32  # scripts waiting their turn; more are refused
 
 
 def sleep_face() -> FaceState:
@@ -40,18 +38,12 @@ def sleep_face() -> FaceState:
     )
 
 
-class QueueFull(Exception):
-    """A queued script was refused: the queue holds as many as it may."""
-
-
 class LiveFace:
-    """Commands in, face states and robot effects out, on a clock the caller gives.
+    """Timelines in, face states and robot effects out, on a clock the caller gives.
 
-    `command` parses, compiles and starts (or queues) a script in one call.
-    A caller that must not wait (the node's frame loop) splits it: `prepare`
-    parses and compiles, from any thread, and `begin` or `enqueue` hands the
-    result over, which is cheap. Queued timelines start from the face as the
-    one before them leaves it, so they are compiled exactly ahead of time.
+    Compiling (`prepare`, `take_over`) is safe from any thread and may wait (a `say` waits for
+    espeak-ng); `begin` hands the result over, which is cheap, and `state` and `due`, read by a
+    frame loop, never compile.
     """
 
     def __init__(
@@ -60,40 +52,21 @@ class LiveFace:
         idle: bool = True,
         seed: Optional[int] = None,
         now: float = 0.0,
-        max_queue: int = MAX_QUEUE,
         recordings: Optional[Recordings] = None,
     ) -> None:
         """`recordings`: where `say file` may read; by default nowhere, as commands come from afar."""
         self.rng = random.Random(seed)
         self.recordings = recordings
         self.idle_on = idle
-        self.max_queue = max_queue
-        self.queue: Deque[Timeline] = deque()
         self._robot = StatusFold()
         self.begin(compile_script(parse(""), start=start or FaceState()), now)
 
-    # -- commands
-
-    def command(
-        self, text: str, now: float, queue: bool = False, filename: str = "display_chatter"
-    ) -> Script:
-        """Run `text` from now (or after what is playing, with `queue`); ScriptError if it is bad."""
-        script = parse(text, filename)
-        queued = queue and not self.finished(now)
-        timeline = self.prepare(script, self.queue_end()) if queued else self.take_over(script, now)
-        if queued:
-            self.enqueue(timeline)
-        else:
-            self.begin(timeline, now)
-        return script
+    # -- timelines
 
     def prepare(self, script: Script, start: FaceState, carry: Optional[Carry] = None) -> Timeline:
         """Compile `script` to start from `start`; safe from another thread."""
         from ..speech.recordings import RecordingError, Recordings
 
-        refused = not_here(script, "a live face without a session (the screen, the studio)")
-        if refused is not None:  # the node runs a LiveSession; the ends still here do not yet
-            raise refused
         if self.recordings is None:
             self.recordings = Recordings(None)
         # A recording's length is in its header, which parsing does not read: the length limit with it.
@@ -114,22 +87,7 @@ class LiveFace:
         return self.prepare(script, timeline.sample(now - started), Carry(timeline, now - started))
 
     def begin(self, timeline: Timeline, now: float) -> None:
-        """Play `timeline` from `now`, dropping what was playing and what was queued."""
-        self.queue.clear()
-        self._start(timeline, now)
-
-    def enqueue(self, timeline: Timeline) -> None:
-        """Play `timeline` after what is playing and queued; QueueFull if the queue is full."""
-        if len(self.queue) >= self.max_queue:
-            raise QueueFull(f"the queue is full ({self.max_queue} scripts)")
-        self.queue.append(timeline)
-
-    def queue_end(self) -> FaceState:
-        """The face as the last queued script (or the one playing) will leave it."""
-        last = self.queue[-1] if self.queue else self._playing[0]
-        return last.sample(last.duration)
-
-    def _start(self, timeline: Timeline, now: float) -> None:
+        """Play `timeline` from `now`, dropping what was playing and its effects not yet due."""
         idle = Idle(timeline, seed=self.rng.randrange(2**32), until=IDLE_AHEAD) if self.idle_on else None
         self.pending: List[Cue] = list(timeline.cues)
         # One assignment, so a reader on another thread (a frame loop, while the live session's
@@ -154,15 +112,8 @@ class LiveFace:
 
     # -- the face
 
-    def base_state(self, now: float) -> FaceState:
-        """The face the commands make, without idle blinks; safe from another thread."""
-        timeline, started, _ = self._playing
-        return timeline.sample(max(0.0, now - started))
-
     def state(self, now: float) -> FaceState:
         """The face to show at `now`: the commands' face with idle life on top."""
-        if self.queue and self.finished(now):
-            self._start(self.queue.popleft(), self.started + self.timeline.duration)
         timeline, started, idle = self._playing
         t = max(0.0, now - started)  # a frame's clock read just before another thread began a step
         state = timeline.sample(t)

@@ -33,7 +33,7 @@ _SESSION = {
     "log", "logged", "segments", "cues", "exited", "ignored", "last_event", "_idle_fired", "_every",
     "_burst", "steps", "exited_at", "_kinds", "keep_up", "_behind", "_driving", "states",
 }  # fmt: skip
-_FACE = {"rng", "recordings", "idle_on", "max_queue", "queue", "_robot", "pending", "_playing"}
+_FACE = {"rng", "recordings", "idle_on", "_robot", "pending", "_playing"}
 _RUN = {"runner", "script", "label", "handler", "playing", "exiting", "waiting", "done", "carry"}
 _RUNNER = {"definitions", "rng", "frames", "again", "_holding"}
 
@@ -92,7 +92,6 @@ def _face(face: LiveFace) -> LiveFace:
         raise CannotFork("a face with idle life is not copied: its plans are its own")
     twin = copy.copy(face)
     twin.rng = _random(face.rng)
-    twin.queue = deque(face.queue)
     twin._robot = StatusFold(face._robot.status)
     twin.pending = list(face.pending)
     return twin

@@ -9,6 +9,7 @@ import pytest
 from baxterface_cli.engine.live_face import LiveFace
 from baxterface_cli.language.diagnostics import ScriptError
 from conftest import baxterface
+from live_commands import command
 
 SCRIPT = """\
 sleep
@@ -90,16 +91,16 @@ def test_play_refuses_handlers_without_events(files):
     )
 
 
-def test_the_live_ends_refuse_a_script_that_reacts_in_one_line():
-    face = LiveFace()
+def test_a_live_face_alone_refuses_a_script_that_reacts_in_one_line():
+    face = LiveFace()  # its session runs handlers (engine/live_session.py); alone, it compiles as render does
     with pytest.raises(ScriptError) as caught:
-        face.command("blink\non face seen { nod }", 1.0)
+        command(face, "blink\non face seen { nod }", 1.0)
     assert caught.value.summary() == (
         "display_chatter:2:1: error: 'on face seen' runs in render, play and explain (with --events FILE); "
-        "a live face without a session (the screen, the studio) does not run handlers, waits, signals, "
+        "a timeline compiled alone (compile_script) does not run handlers, waits, signals, "
         "'forever' or 'one of' yet"
     )
-    face.command("blink", 1.0)  # and goes on taking what it can run
+    command(face, "blink", 1.0)  # and goes on taking what it can run
 
 
 def reactions(tmp_path, script: str, events: str):

@@ -303,11 +303,12 @@ def test_the_live_face_reads_no_recording_unless_given_a_folder(recorded):
     from baxterface_cli.engine.live_session import LiveSession
     from baxterface_cli.engine.session_intake import SessionIntake
     from baxterface_cli.speech.recordings import Recordings
+    from live_commands import command
     from waiting import eventually
 
     folder, _ = recorded
     with pytest.raises(Exception, match="reads no recordings"):
-        LiveFace(idle=False).command('say file "said.wav"', 0.0)
+        command(LiveFace(idle=False), 'say file "said.wav"', 0.0)
     session = LiveSession(idle=False, recordings=Recordings(folder, confined=True))
     logged = []
     with SessionIntake(session, lambda: 0.0, log=lambda level, text: logged.append(text)) as intake:
