@@ -55,10 +55,3 @@ def _known() -> FrozenSet[str]:
 
 def known_voice(name: str) -> bool:
     return name.lower() in _known()
-
-
-def estimated_seconds(text: str, rate: int = DEFAULT_RATE) -> float:
-    """About how long `text` takes to say, without speaking it: for checking a script's length."""
-    words = len(text.split())
-    pauses = sum(text.count(mark) for mark in ",.;:!?")
-    return words * 60.0 / rate + 0.3 * pauses
