@@ -198,9 +198,10 @@ def _on_words(s: n.On) -> str:
     return f"on {event_words(s.event)}{policy}" + (f" cooldown {s.cooldown:g}s" if s.cooldown else "")
 
 
-# The statements the live session runs (engine/live_session.py, `_Runner.do_<name>`), not the
-# compiler: they wait on the world, raise events, or choose. A script with any of them runs
-# through the session, which compiles the statements between them as any script's.
+# The statements the live session runs (engine/live_session.py), not the compiler: they wait on
+# the world, raise events, or choose. `Runner._step` in engine/session_program.py tells each apart
+# by its node (an `on` is installed by engine/session_handlers.py beforehand); the session compiles
+# the statements between them as any script's.
 _SESSION = (
     Kind(n.On, words=("on",), in_words=_on_words),
     Kind(n.Forever, words=("forever",), in_words=lambda s: "forever"),
