@@ -1,6 +1,7 @@
 """The web studio: editor, live preview, button panel and session log, served by Starlette.
 
-workspace (the script, preview, panel and robot switch, without the web), preview, session,
-panel, robot_switch, api (the studio's routes over the face routes every page has, which the
-web room holds with the pump, the guard and the server).
+workspace (the script, preview, panel and robot switch, without the web), preview, presses (the
+session: the panel's presses as a script), panel, robot_switch, api (the studio's routes over
+the face routes every page has, which the web room holds with the pump, the guard and the
+server).
 """

@@ -2,7 +2,7 @@
 
 Two sources, one face. The script plays, pauses, seeks and loops along its
 own timeline; a press switches the preview to the session, whose face
-carries on under the presses (see `session.py`); pressing play switches back.
+carries on under the presses (see `presses.py`); pressing play switches back.
 No clock inside: every call is given `now`, so it is all tested without
 waiting.
 """
@@ -24,7 +24,7 @@ from ..speech.recordings import Recordings
 from ..speech.synthesis import Utterance
 from ..web.sounds import sound_key
 from . import reacting
-from .session import Pending, Session
+from .presses import Pending, Presses
 
 SCRIPT = "script"
 SESSION = "session"
@@ -83,8 +83,8 @@ class Preview:
     ) -> None:
         """`recordings`: where `say file` reads, for the script and the presses alike (default: nowhere)."""
         self.recordings = recordings or Recordings(None)
-        self.session = Session(seed, filename, self.recordings)
-        self.seed = self.session.seed
+        self.presses = Presses(seed, filename, self.recordings)
+        self.seed = self.presses.seed
         self.idle = idle
         self.transport = Transport()
         self.mode = SCRIPT
@@ -93,7 +93,7 @@ class Preview:
         self.events: List[Posted] = []  # fired by hand at the script (studio/reacting.py)
         self.counts: Dict[str, int] = {"runs": 0, "dropped": 0, "queued": 0}  # what its handlers did
         self.run: Any = None  # the script's run over them, kept to be continued (studio/event_run.py)
-        self._session_animation = Animation(self.session.timeline, idle, self.seed)
+        self._presses_animation = Animation(self.presses.timeline, idle, self.seed)
 
     # -- the script
 
@@ -153,35 +153,35 @@ class Preview:
 
     def prepare_press(self, text: str, now: float) -> Tuple[Pending, Animation]:
         """The slow half of a press, which changes nothing (see `Session.prepare`)."""
-        pending = self.session.prepare(text, now)
+        pending = self.presses.prepare(text, now)
         return pending, Animation(pending.part.timeline, self.idle, self.seed)
 
     def take_press(self, prepared: Tuple[Pending, Animation], now: float) -> float:
         """The quick half: the prepared press shown from now. Stale if the session moved on."""
         pending, animation = prepared
-        at = self.session.take(pending)
-        self._session_animation = animation
+        at = self.presses.take(pending)
+        self._presses_animation = animation
         if self.mode == SCRIPT:
             self.transport.pause(now, self.duration)
         self.mode = SESSION
         return at
 
     def clear_session(self) -> None:
-        self.session.clear()
-        self._session_animation = Animation(self.session.timeline, self.idle, self.seed)
+        self.presses.clear()
+        self._presses_animation = Animation(self.presses.timeline, self.idle, self.seed)
 
     # -- what is shown
 
     def position(self, now: float) -> float:
         if self.mode == SESSION:
-            return self.session.position(now)
+            return self.presses.position(now)
         self.transport.settle(now, self.duration)
         return self.transport.position(now, self.duration)
 
     def _shown(self) -> Tuple[Animation, float]:
         """What is shown, and where its time 0 is on the position's: the session plays in parts."""
         if self.mode == SESSION:
-            return self._session_animation, self.session.part.offset
+            return self._presses_animation, self.presses.part.offset
         return self.animation, 0.0
 
     def at(self, now: float) -> Tuple[float, FaceState, RobotStatus]:
@@ -189,7 +189,7 @@ class Preview:
         animation, offset = self._shown()
         t = self.position(now)
         if self.mode == SESSION:
-            part = self.session.part
+            part = self.presses.part
             robot = animation.timeline.status(t - offset, part.robot)
             # The part's own times, moved onto the session's.
             robot = robot._replace(
@@ -209,7 +209,7 @@ class Preview:
 
     def utterance(self, key: str) -> Optional[Utterance]:
         """The utterance of the script or the session whose sound is called `key`."""
-        for animation in (self.animation, self._session_animation):
+        for animation in (self.animation, self._presses_animation):
             for said in animation.timeline.speech:
                 if sound_key(said.utterance) == key:
                     return said.utterance
@@ -219,7 +219,7 @@ class Preview:
         """How long what is shown is: the script's length, or the session's so far (it goes on
         with the clock past its last press's end)."""
         if self.mode == SESSION:
-            return max(self.session.duration, t)
+            return max(self.presses.duration, t)
         return self.duration
 
     def status(self, now: float) -> dict:

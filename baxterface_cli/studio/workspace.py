@@ -35,10 +35,10 @@ from ..web.answers import diagnostics_json, problem
 from ..web.sounds import sound_key, wav_file
 from .chained import Chained
 from .panel import Button, PanelError, load_panel
+from .presses import Stale
 from .preview import Preview
 from .reacting import Reacting, listens, with_pressed
 from .robot_switch import RobotSwitch
-from .session import Stale
 
 MAX_SESSION_FILES = 100  # session files one run writes; each session has one, replaced by its exports
 SHOWN_SPANS = 400  # spans of a long run the page lists, around the preview's position
@@ -389,7 +389,7 @@ class Workspace(Reacting):
     def session(self, whole: bool = False) -> Dict[str, Any]:
         """The session's latest presses (`whole`: all, and its text)."""
         with self.lock:
-            return self.preview.session.as_json(whole)
+            return self.preview.presses.as_json(whole)
 
     def clear_session(self) -> Dict[str, Any]:
         with self.lock:
@@ -403,7 +403,7 @@ class Workspace(Reacting):
         time, which each later export of the same session replaces. A new file for each export
         filled the folder (2,000 in 5 s); past `MAX_SESSION_FILES` sessions in one run, refused."""
         with self.lock:
-            session = self.preview.session
+            session = self.preview.presses
             key = self._sessions
             target = self._exported.get(key)
             if target is None:

@@ -20,8 +20,8 @@ from baxterface_cli.engine.compiler import compile_script
 from baxterface_cli.language.diagnostics import ScriptError
 from baxterface_cli.language.parser import parse
 from baxterface_cli.studio.panel import DEFAULT_PANEL, PanelError, load_panel
+from baxterface_cli.studio.presses import Presses
 from baxterface_cli.studio.preview import SCRIPT, SESSION, Preview, Transport
-from baxterface_cli.studio.session import Session
 from baxterface_cli.studio.workspace import check_text
 from studio_server import baxterface, running_studio
 
@@ -49,7 +49,7 @@ def test_the_exported_session_replays_what_the_preview_showed():
             preview.press(PRESSES[pressed][1], start + PRESSES[pressed][0])
             pressed += 1
         shown.append(((start + t) - start, preview.at(start + t)[1:]))  # as the preview's clock saw it
-    replay = compile_script(parse(preview.session.text, "session.face"), 11)
+    replay = compile_script(parse(preview.presses.text, "session.face"), 11)
     # Before the second press the session was `happy` alone, a legacy command, which cuts to its
     # parts where the whole session's text crossfades: the same face from there on, to the float.
     later = [(t, face) for t, face in shown if t >= PRESSES[1][0]]
@@ -71,7 +71,7 @@ def test_a_long_sessions_export_replays_what_the_preview_showed():
             preview.press(presses[pressed][1], 1000.0 + presses[pressed][0])
             pressed += 1
         shown.append(((1000.0 + t) - 1000.0, preview.at(1000.0 + t)[1:]))
-    replay = compile_script(parse(preview.session.text, "session.face"), 11)
+    replay = compile_script(parse(preview.presses.text, "session.face"), 11)
     later = [(t, face) for t, face in shown if t >= presses[1][0]]
     assert all(_same((replay.sample(t), replay.status(t)), face) for t, face in later)
 
@@ -91,7 +91,7 @@ def _same(a, b) -> bool:
 
 
 def test_a_press_logs_its_time_from_the_first_press():
-    session = Session(seed=1)
+    session = Presses(seed=1)
     assert session.press("happy", 50.0) == 0.0
     assert session.press("sad", 51.2345) == 1.234
     assert [(p.at, p.command) for p in session.presses] == [(0.0, "happy"), (1.234, "sad")]
@@ -99,7 +99,7 @@ def test_a_press_logs_its_time_from_the_first_press():
 
 
 def test_presses_that_do_not_overlap_export_as_a_plain_list_with_waits():
-    session = Session(seed=1)
+    session = Presses(seed=1)
     session.press("happy", 0.0)
     session.press("look left in 0.5s", 2.0)
     body = [line for line in session.text.splitlines() if not line.startswith("#")]
@@ -107,7 +107,7 @@ def test_presses_that_do_not_overlap_export_as_a_plain_list_with_waits():
 
 
 def test_a_bad_press_changes_nothing_and_says_why():
-    session = Session(seed=1)
+    session = Presses(seed=1)
     session.press("happy", 0.0)
     with pytest.raises(ScriptError) as e:
         session.press("hapy", 1.0)
@@ -155,7 +155,7 @@ def test_the_session_clock_never_runs_past_the_session_length_it_shows():
     preview.press("happy", 10.0)
     early = preview.status(10.2)
     assert early["mode"] == SESSION and early["t"] == 0.2
-    assert early["duration"] == round(preview.session.timeline.duration, 3) > early["t"]
+    assert early["duration"] == round(preview.presses.timeline.duration, 3) > early["t"]
     late = preview.status(32.21)  # long after the press's face has settled: the session goes on
     assert late["t"] == late["duration"] == 22.21
     preview.play(33.0)
@@ -166,20 +166,20 @@ def test_a_press_compiles_without_holding_the_preview_still(tmp_path, monkeypatc
     """The frame pump reads the face many times a second: a slow press must not stop it."""
     import threading
 
-    from baxterface_cli.studio import session as session_module
+    from baxterface_cli.studio import presses as presses_module
     from baxterface_cli.studio.workspace import Workspace
 
     (tmp_path / "show.face").write_text("happy\n")
     workspace = Workspace(tmp_path / "show.face", idle=False)
     compiling, finish = threading.Event(), threading.Event()
-    slow = session_module.Session.prepare
+    slow = presses_module.Presses.prepare
 
     def prepare(self, text, now):
         compiling.set()
         assert finish.wait(30)  # a long session compiling again
         return slow(self, text, now)
 
-    monkeypatch.setattr(session_module.Session, "prepare", prepare)
+    monkeypatch.setattr(presses_module.Presses, "prepare", prepare)
     press = threading.Thread(target=workspace.command, args=("sad",))
     press.start()
     assert compiling.wait(30)
@@ -196,9 +196,9 @@ def test_a_press_compiles_without_holding_the_preview_still(tmp_path, monkeypatc
 
 
 def test_a_press_prepared_against_an_older_session_is_stale():
-    from baxterface_cli.studio.session import Stale
+    from baxterface_cli.studio.presses import Stale
 
-    session = Session(seed=1)
+    session = Presses(seed=1)
     first, second = session.prepare("happy", 0.0), session.prepare("sad", 0.5)
     session.take(first)
     with pytest.raises(Stale):
@@ -573,7 +573,7 @@ def test_a_bad_panel_stops_the_studio_with_one_line(folder):
 
 
 def test_the_docs_show_the_session_export_as_written():
-    session = Session(seed=1234)
+    session = Presses(seed=1234)
     for at, command in ((0.0, "look left in 2s"), (0.5, "sad"), (2.5, "blink")):
         session.press(command, at)
     doc = (REPO / "docs" / "studio.md").read_text(encoding="utf-8")
@@ -583,7 +583,7 @@ def test_the_docs_show_the_session_export_as_written():
 
 
 def test_the_docs_show_a_drag_on_the_mood_pad_as_the_session_writes_it():
-    session = Session(seed=1234)
+    session = Presses(seed=1234)
     for at, command in (
         (0.0, "mood 0.2 0.1 in 0.2s"),
         (0.1, "mood 0.45 0.3 in 0.2s"),

@@ -11,7 +11,7 @@ import pytest
 
 from baxterface_cli.language.source import PIECE
 from baxterface_cli.studio.panel import load_panel
-from baxterface_cli.studio.session import PART_MOST, Session
+from baxterface_cli.studio.presses import PART_MOST, Presses
 from studio_server import baxterface, running_studio
 from waiting import eventually
 
@@ -26,7 +26,7 @@ def test_a_panel_press_compiles_at_the_1000th_what_it_did_at_the_first():
     """Issue 43: a press cost 7 ms at the first and 48 ms at the 1,000th: the part of the session
     it fell in (up to 50 presses) was parsed and compiled again at each one."""
     commands = [b.command for b in load_panel() if ";" not in b.command and "say" not in b.command]
-    session = Session(seed=3)
+    session = Presses(seed=3)
     costs = []
     for i in range(1000):
         before = session.compiled_presses
@@ -40,7 +40,7 @@ def test_a_flood_of_presses_of_several_steps_compiles_at_most_a_part():
     # The panel's head shake is three moves: the next press comes before the last has begun, so
     # it keeps the presses after it in its part, for at most PART_MOST of them.
     shake = next(b.command for b in load_panel() if b.label == "Shake head")
-    session = Session(seed=3)
+    session = Presses(seed=3)
     costs = []
     for i in range(3 * PART_MOST):
         before = session.compiled_presses
@@ -52,7 +52,7 @@ def test_a_flood_of_presses_of_several_steps_compiles_at_most_a_part():
 
 def test_the_session_knows_its_size_without_writing_its_text():
     # What a press checks against the script limits, counted a press at a time, is the export's.
-    session = Session(seed=5)
+    session = Presses(seed=5)
     times = [0.0, 0.0004, 0.3, 0.31, 2.0, 2.0, 2.1, 9.9, 10.0, 10.0004, 30.0]
     for k, at in enumerate(times):
         session.press(["happy", "look left in 1s\nsad", "blink", "wobble 0.2 in 0.5s; nod"][k % 4], 50.0 + at)

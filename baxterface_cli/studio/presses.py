@@ -1,10 +1,12 @@
-"""A live session: commands pressed at times, kept as the script that replays them.
+"""The studio's session: the panel's presses at their times, kept as the script that replays them.
 
-The session *is* a script (session_text.py writes it): each press placed at its time, one after
-another with `wait`s between them while each has finished before the next; presses that overlap
-go into a `together`, each after a `wait` for its own start, so a move pressed later takes over
-its part from where it has got to (the language's rule) while the rest carries on. The exported
-file replays the session, given the seed in its first line.
+It is not a live session (engine/live_session.py, which runs handlers and events): a press that
+reacts goes into the editor's script's run instead (reacting.py). The session *is* a script
+(press_text.py writes it): each press placed at its time, one after another with `wait`s between
+them while each has finished before the next; presses that overlap go into a `together`, each
+after a `wait` for its own start, so a move pressed later takes over its part from where it has
+got to (the language's rule) while the rest carries on. The exported file replays the session,
+given the seed in its first line.
 
 A press must cost the same at the 10,000th as at the first, so the preview does not compile the
 session again at each one: it plays it in parts, each compiled (as that part's script) from the
@@ -36,9 +38,9 @@ from ..language.diagnostics import Diagnostic, ScriptError
 from ..language.parser import parse
 from ..language.syntax_tree import Script
 from ..speech.recordings import RecordingError, Recordings
-from .session_text import Press, TextSize, body
+from .press_text import Press, TextSize, body
 
-__all__ = ["PART_MOST", "Press", "Session", "Stale"]
+__all__ = ["PART_MOST", "Press", "Presses", "Stale"]
 
 
 class Stale(Exception):
@@ -89,11 +91,11 @@ class Pending(NamedTuple):
     started: float
     at: float
     size: TextSize  # the session's text with the press
-    legacy: bool  # every press so far spelled as the old node's commands, as `Session.legacy`
+    legacy: bool  # every press so far spelled as the old node's commands, as `Presses.legacy`
 
 
-class Session:
-    """Presses in, the session's script text and timeline out."""
+class Presses:
+    """Presses in, the script that replays them (the session's text) and its timeline out."""
 
     def __init__(
         self,

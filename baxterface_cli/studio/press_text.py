@@ -1,7 +1,7 @@
 """The session as the script that replays it, and that script's size, kept as presses come.
 
 Presses that do not overlap are written one after another with `wait`s between them; presses
-that overlap go into a `together`, each after a `wait` for its own start (session.py says why).
+that overlap go into a `together`, each after a `wait` for its own start (presses.py says why).
 The size is what a press checks against a script's limits: it must not be found by writing the
 whole text again at each press, which cost more the longer the session had grown, so
 `TextSize.add` counts only what one press adds to it.
