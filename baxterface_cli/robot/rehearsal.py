@@ -40,8 +40,8 @@ class FollowSourceError(ValueError):
     """A --follow-from file that cannot be used; the message is one line, with where."""
 
 
-class Trace:
-    """A recorded trace, read whole: its events in time order."""
+class SensorTrace:
+    """A recorded trace of the robot's sensors (sonar, hands), read whole: its readings in time order."""
 
     kinds = ("sonar", "left", "right")
 
@@ -138,12 +138,12 @@ class Pictures:
 
 
 def open_source(path: str) -> Any:
-    """A Trace or Pictures for FILE, or FollowSourceError / MissingTool saying why not."""
+    """A SensorTrace or Pictures for FILE, or FollowSourceError / MissingTool saying why not."""
     file = Path(path)
     if not file.is_file():
         raise FollowSourceError(f"{path}: no such file")
     if file.suffix.lower() in TRACE_SUFFIXES:
-        return Trace(file)
+        return SensorTrace(file)
     return Pictures(file)
 
 
