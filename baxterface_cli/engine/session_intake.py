@@ -55,7 +55,7 @@ BATCH = 1000  # inputs taken in one go before the session's time is advanced
 # `signal NAME` sent alone: raised without the parser, never a take-over (stream takes only these).
 SIGNAL_ALONE = re.compile(r"\s*signal\s+([A-Za-z_][A-Za-z0-9_]*)\s*;?\s*", re.IGNORECASE)
 Log = Callable[[str, str], None]  # (level, text)
-Said = Union[str, n.Script]  # a command's text, or a script its sender has read already
+Sent = Union[str, n.Script]  # a command as sent: its text, or a script its sender has read already
 
 
 class Refused(Exception):
@@ -103,8 +103,8 @@ class SessionIntake(ClosedOnExit):
         self._arrived = 0  # orders commands and events as they came
         self._handled = 0  # the last of them the worker has handed to the session (or let go)
         # Each with the future its sender waits on, if it waits: (order, text, time, future).
-        self._takeovers: Deque[Tuple[int, Said, float, Optional[Future]]] = deque()  # unread
-        self._texts: Deque[Tuple[int, Said, float, Optional[Future]]] = deque()  # queued, unread
+        self._takeovers: Deque[Tuple[int, Sent, float, Optional[Future]]] = deque()  # unread
+        self._texts: Deque[Tuple[int, Sent, float, Optional[Future]]] = deque()  # queued, unread
         self._events: Deque[Tuple[int, n.Event, float, str, Optional[Future]]] = deque()
         self.waiting: Deque[n.Script] = deque()  # queued scripts, read, waiting for the face
         self.dropped = 0
@@ -137,7 +137,7 @@ class SessionIntake(ClosedOnExit):
             done.set_exception(Refused(refusal))
         return done
 
-    def _hand(self, said: Said, queued: bool, done: Optional[Future]) -> Optional[str]:
+    def _hand(self, sent: Sent, queued: bool, done: Optional[Future]) -> Optional[str]:
         with self._cond:
             if self._closed:
                 return "refused a command: the face has stopped"
@@ -146,7 +146,7 @@ class SessionIntake(ClosedOnExit):
             if len(self._texts) + len(self._takeovers) >= self.max_unread:
                 return f"refused a command: {self.max_unread} are already waiting to be read"
             self._arrived += 1
-            (self._texts if queued else self._takeovers).append((self._arrived, said, self.clock(), done))
+            (self._texts if queued else self._takeovers).append((self._arrived, sent, self.clock(), done))
             self._cond.notify()
         return None
 
@@ -292,7 +292,7 @@ class SessionIntake(ClosedOnExit):
             self.waiting.clear()
         self._run(script, max(at, self.session.clock), done)
 
-    def _read(self, text: Said) -> Optional[n.Script]:
+    def _read(self, text: Sent) -> Optional[n.Script]:
         if isinstance(text, n.Script):
             return text
         try:
