@@ -33,7 +33,7 @@ from .effects import Cue
 from .session_program import not_here
 from .shape_tracks import ShapeTracks
 from .take_over import Carry, carry_over
-from .timeline import CROSSFADE, Said, Span, Speaker, Timeline, Track
+from .timeline import CROSSFADE, Said, Span, TextToSpeech, Timeline, Track
 from .tracks import Owner
 
 if TYPE_CHECKING:
@@ -57,7 +57,7 @@ class _Compiler:
         rng: random.Random,
         start: FaceState,
         crossfade: float,
-        speak: Speaker,
+        speak: TextToSpeech,
         recordings: Optional[Recordings] = None,
     ) -> None:
         self.definitions = script.definitions
@@ -359,7 +359,7 @@ def compile_script(
     seed: Optional[int] = 0,
     start: Optional[FaceState] = None,
     crossfade: Optional[float] = None,
-    speak: Optional[Speaker] = None,
+    speak: Optional[TextToSpeech] = None,
     recordings: Optional[Recordings] = None,
     carry: Optional[Carry] = None,
     rng: Optional[random.Random] = None,

@@ -27,7 +27,7 @@ __all__ = [
     "Piece",
     "Said",
     "Span",
-    "Speaker",
+    "TextToSpeech",
     "Timeline",
     "Track",
     "state_record",
@@ -38,7 +38,7 @@ if TYPE_CHECKING:
     from ..speech.visemes import MouthKey
 
 # Speaks text in a voice (None: the default) at a rate (None: the default).
-Speaker = Callable[[str, Optional[str], Optional[int]], "Utterance"]
+TextToSpeech = Callable[[str, Optional[str], Optional[int]], "Utterance"]
 
 CROSSFADE = 0.15  # seconds a script's part swap blends over; 0 cuts
 
