@@ -13,7 +13,7 @@ POLL = 0.002  # a timed statement's first change comes a few milliseconds after 
 EAGER_FOR = 0.25
 
 
-class FirstMotion:
+class ChangePolling:
     """The time of the next look: the loop's tick, or sooner while a command's change is awaited."""
 
     def __init__(self, poll: float = POLL, eager_for: float = EAGER_FOR) -> None:

@@ -20,7 +20,7 @@ from typing import Any, Callable, Optional, Tuple
 
 from ..core.face_state import FaceState
 from ..drawing.renderer import Renderer
-from ..engine.change_polling import FirstMotion
+from ..engine.change_polling import ChangePolling
 from ..engine.effects import Speech
 from ..engine.live_session import LiveSession
 from ..engine.log_backlog import Backlog
@@ -84,7 +84,7 @@ class FaceLoop:
         self.shown_timeline: Any = self.live.timeline  # a new one: a step began (speech cut, state sent)
         self.last_key: Any = None
         self.last_frame_at = -math.inf
-        self.first_motion = FirstMotion()  # after a command, looked at often until it shows
+        self.change_polling = ChangePolling()  # after a command, looked at often until it shows
         self.last_state_text = ""
         self.last_state_at = -math.inf
 
@@ -145,7 +145,7 @@ class FaceLoop:
             # The cap: frames at most `fps` a second (a little slack for a
             # tick that comes early; ticks themselves keep the average).
             if now >= self.last_frame_at + 0.75 * period and self._publish_frame(state, now):
-                self.first_motion.shown()
+                self.change_polling.shown()
             self._publish_state(state, now)
             self.jpeg.tick(now)
             # Ticks keep their own rhythm, publishing or not, whatever woke the loop
@@ -155,8 +155,8 @@ class FaceLoop:
                 if next_tick < now:
                     next_tick = now + period
             if took:
-                self.first_motion.heard(now)
-            wake_at = self.first_motion.next_look(next_tick, now)
+                self.change_polling.heard(now)
+            wake_at = self.change_polling.next_look(next_tick, now)
             self.wake.wait(max(0.0, wake_at - time.monotonic()))  # or until a command comes
             self.wake.clear()
         return now

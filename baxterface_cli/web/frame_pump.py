@@ -18,7 +18,7 @@ from typing import Any, Callable, Dict, List, Optional, Protocol, Set
 import numpy as np
 
 from ..drawing.renderer import Renderer
-from ..engine.change_polling import FirstMotion
+from ..engine.change_polling import ChangePolling
 
 STATUS_EVERY = 0.1  # seconds between status messages to the page
 DISK_EVERY = 0.5  # seconds between looks at the script and the panel on disk
@@ -146,19 +146,19 @@ class Pump:
         shown, pages = self.shown, self.pages
         period = 1.0 / self.fps
         tick = time.monotonic()
-        first_motion = FirstMotion()  # after a command (as the face node): looked at often until it shows
+        change_polling = ChangePolling()  # after a command (as the face node): looked at often until it shows
         last_status = last_disk = 0.0
         next_frame = 0.0  # no frame before: however many commands come, at most `fps` frames a second
         drawn: Any = None
         heard: Any = []
         while True:
             now = time.monotonic()
-            at = max(first_motion.next_look(tick, now), min(next_frame, tick))
+            at = max(change_polling.next_look(tick, now), min(next_frame, tick))
             woken = await self._woken(max(0.0, at - now))
             self._wake.clear()
             now = time.monotonic()
             if woken:
-                first_motion.heard(now)
+                change_polling.heard(now)
             if now >= tick:
                 # Ticks keep their own rhythm, however long a frame took; a late pump skips the
                 # ticks it missed rather than hurrying to catch up.
@@ -175,7 +175,7 @@ class Pump:
                     if key != drawn:  # a new state may still draw the same frame: none is sent
                         pages.send(await run_in_threadpool(self.frames.jpeg, face))
                         drawn = key
-                        first_motion.shown()
+                        change_polling.shown()
                         # From when this look was due, not when the loop got to it: frames at the
                         # ticks keep the ticks' rhythm.
                         next_frame = min(at, now) + period
