@@ -1,12 +1,12 @@
 """The face a live session plays on, taking each timeline as it is handed over.
 
-A `LiveSession` (live_session.py) is the node's, the screen's and `stream`'s engine: it compiles
-each step of its scripts and handlers and hands the timeline here with `begin`; the screen also
-compiles a plain command here itself (`take_over`: `prepare` from the face as it is at that
-moment) and begins it. The face plays one timeline at a time, each taking over from the one
-before, with idle blinks on top between and after them. Robot effects (head, nod, enable,
-follow, exit) fall due as time passes and are handed out once (`due`); the robot's status
-(following, exited) carries over from timeline to timeline.
+A `LiveSession` (live_session.py) is every live end's engine (the node, `stream`, the screen,
+`play` of a script that reacts): it compiles each step of its scripts and handlers and hands the
+timeline here with `begin`; the screen also compiles a plain command here itself (`take_over`:
+`prepare` from the face as it is at that moment) and begins it. The face plays one timeline at a
+time, each taking over from the one before, with idle blinks on top between and after them.
+Robot effects (head, nod, enable, follow, exit) fall due as time passes and are handed out once
+(`due`); the robot's status (following, exited) carries over from timeline to timeline.
 """
 
 from __future__ import annotations
