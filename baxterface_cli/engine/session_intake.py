@@ -1,8 +1,8 @@
 """A live session driven by a worker thread of its own, so a frame loop never waits for a compile.
 
-The face node's intake: each command is parsed and compiled on a thread of its own, for the
-node's `LiveSession`. Commands and events
-come in from any thread (ROS callbacks), stamped with the clock as they arrive; the worker
+The intake of the face node's, `stream`'s and the screen's `LiveSession`: each command is parsed
+and compiled on a thread of its own. Commands and events come in from any thread (ROS callbacks,
+the screen's requests), stamped with the clock as they arrive; the worker
 parses, hands them to the session in the order they came, and advances the session whenever
 something falls due (a step's end, a timeout, `every`, `idle`), compiling each step there. The
 frame loop reads the face with `LiveSession.frame`, which never compiles.
