@@ -31,7 +31,7 @@ from .effects import Cue
 from .live_face import LiveFace
 from .session_handlers import EveryClock, by_kind, install, key_of, why_dropped
 from .session_program import Await, Goto, Lap, Play, Runner
-from .session_records import Handler, Kind, Logged, Run
+from .session_records import Handler, Logged, LogKind, Run
 from .session_states import States
 from .session_steps import compile_step, round_rest
 from .timeline import Timeline
@@ -107,7 +107,7 @@ class LiveSession:
         at = self.clock
         handlers, replaced = install(self.handlers, script)  # ScriptError past the bounds: nothing done
         for event in {key_of(h): h.on.event for h in replaced}.values():
-            self._note(at, Kind.REPLACED, f"{in_words(event)}: its handler replaced")
+            self._note(at, LogKind.REPLACED, f"{in_words(event)}: its handler replaced")
         self.states.install(script)
         if handlers is not self.handlers:
             self.handlers, self._kinds = handlers, by_kind(handlers)
@@ -122,7 +122,7 @@ class LiveSession:
         if not rest and self.main is not None:
             return
         if self.active is not None:
-            self._note(at, Kind.TAKEN_OVER, f"{self.active.label} stopped by a new script")
+            self._note(at, LogKind.TAKEN_OVER, f"{self.active.label} stopped by a new script")
             self.active = None
         self.pending.clear()
         self._pause(self.main, at)
@@ -198,7 +198,7 @@ class LiveSession:
         run = self._owner()
         if run is not None and not run.done:
             why = f"{now - self.clock:.1f} s behind the clock, its steps too short to keep time"
-            self._note(self.clock, Kind.STOPPED, f"{run.label} stopped: {why}")
+            self._note(self.clock, LogKind.STOPPED, f"{run.label} stopped: {why}")
             run.playing = run.waiting = None
             self._finished(run, self.clock)
         self._every.skip_past(now)
@@ -247,7 +247,7 @@ class LiveSession:
             self.ignored += 1
             return
         if event.kind not in TIMERS:  # a timer's tick is told only by what it starts
-            self._note(at, Kind.EVENT, f"event {in_words(event)}" + (f" ({source})" if source else ""))
+            self._note(at, LogKind.EVENT, f"event {in_words(event)}" + (f" ({source})" if source else ""))
             self.last_event = at
             self._idle_fired.clear()
         for run in (self.main, self.active):
@@ -263,15 +263,15 @@ class LiveSession:
         why = why_dropped(handler, at, self.active, queued)
         if why is not None:
             handler.dropped += 1
-            self._note(at, Kind.DROPPED, f"dropped {in_words(event)}{why}")
+            self._note(at, LogKind.DROPPED, f"dropped {in_words(event)}{why}")
         elif self.active is None:
             self._start(handler, at, cut=handler.on.policy == "interrupt")
         elif handler.on.policy == "queue":
             handler.queued += 1
             self.pending.append((handler, event))
-            self._note(at, Kind.QUEUED, f"queued {in_words(event)} for {handler.label}")
+            self._note(at, LogKind.QUEUED, f"queued {in_words(event)} for {handler.label}")
         else:
-            self._note(at, Kind.INTERRUPTED, f"{self.active.label} interrupted")
+            self._note(at, LogKind.INTERRUPTED, f"{self.active.label} interrupted")
             self._pause(self.active, at)  # it may be between steps: raising this very signal
             self.active = None
             self._start(handler, at, cut=True)
@@ -287,7 +287,7 @@ class LiveSession:
             if started == MAX_STARTS_AT_ONCE + 1:
                 self._note(
                     at,
-                    Kind.STOPPED,
+                    LogKind.STOPPED,
                     f"{handler.label} not run: {MAX_STARTS_AT_ONCE} handler runs began "
                     "without time passing (handlers that raise each other's signals?)",
                 )
@@ -300,7 +300,7 @@ class LiveSession:
         run = Run(Runner(handler.on.body, script.definitions, self.rng), script, handler.label, handler)
         run.carry = not cut
         self.active = run
-        self._note(at, Kind.STARTED, f"{handler.label} runs")
+        self._note(at, LogKind.STARTED, f"{handler.label} runs")
         return True
 
     # -- runs
@@ -328,7 +328,8 @@ class LiveSession:
 
     def _timed_out(self, run: Run) -> None:
         wait, _ = run.waiting  # type: ignore[misc]
-        self._note(self.clock, Kind.TIMED_OUT, f"{run.label}: 'wait until {in_words(wait.event)}' timed out")
+        said = f"'wait until {in_words(wait.event)}'"
+        self._note(self.clock, LogKind.TIMED_OUT, f"{run.label}: {said} timed out")
         self._woken(run, self.clock)
 
     def _played(self, run: Run) -> None:
@@ -355,7 +356,7 @@ class LiveSession:
                 taken[id(run)] = taken.get(id(run), 0) + 1
                 if taken[id(run)] > MAX_STEPS_AT_ONCE:
                     why = f"it took {MAX_STEPS_AT_ONCE} steps without time passing"
-                    self._note(at, Kind.STOPPED, f"{run.label} stopped: {why}")
+                    self._note(at, LogKind.STOPPED, f"{run.label} stopped: {why}")
                     self._finished(run, at)
                     continue
                 self._step(run, at)
@@ -390,24 +391,24 @@ class LiveSession:
         name, why = self.states.target(go, at)
         said = f"line {go.pos.line} 'go {go.name}'"
         if name is None:
-            self._note(at, Kind.STOPPED, f"{run.label}: {said} {why}")
+            self._note(at, LogKind.STOPPED, f"{run.label}: {said} {why}")
             if why.startswith("stopped"):
                 self._finished(run, at)
             return
         if self.active is not None and self.active is not run:
-            self._note(at, Kind.TAKEN_OVER, f"{self.active.label} stopped: the face goes to state {name}")
+            self._note(at, LogKind.TAKEN_OVER, f"{self.active.label} stopped: the face goes to state {name}")
         self._pause(self.active, at)
         self.active = None
         self.pending.clear()
         self._pause(self.main, at)
         state, script = self.states.enter(name)
-        self._note(at, Kind.ENTERED, f"state {name} entered: {run.label}, {said}")
+        self._note(at, LogKind.ENTERED, f"state {name} entered: {run.label}, {said}")
         self.main = Run(Runner(state.body, script.definitions, self.rng), script, f"state {name}")
         self.main.carry = False  # what the face was doing stops where it is
 
     def _finished(self, run: Run, at: float) -> None:
         run.done = True
-        self._note(at, Kind.ENDED, f"{run.label} ends")
+        self._note(at, LogKind.ENDED, f"{run.label} ends")
         if run is not self.active:
             return
         self.active = None
@@ -416,7 +417,7 @@ class LiveSession:
             if self._start(handler, at, cut=False):
                 return
         if self.main is not None and not self.main.done and self.active is None:
-            self._note(at, Kind.RESUMED, f"{self.main.label} goes on")  # `_drive` takes it on
+            self._note(at, LogKind.RESUMED, f"{self.main.label} goes on")  # `_drive` takes it on
 
     def _play(self, run: Run, step: Play, at: float) -> None:
         playing, started = self.face.timeline, self.face.started
@@ -432,7 +433,7 @@ class LiveSession:
         run.playing = (step, at, at + length)
 
     def _exit(self) -> None:
-        self._note(self.clock, Kind.EXITED, "the face exits")
+        self._note(self.clock, LogKind.EXITED, "the face exits")
         self.exited, self.exited_at = True, self.clock
         self.active = None
         self.pending.clear()

@@ -40,11 +40,11 @@ from ..language.diagnostics import Diagnostic, ScriptError
 from ..language.parser import parse
 from ..speech.recordings import RecordingError
 from .live_session import LiveSession
-from .session_records import Kind
+from .session_records import LogKind
 
 # What a node's log shows of the session's: every event and drop stays in the session's log and
 # counts, as a storm must not flood ROS's.
-FORWARDED = (Kind.REPLACED, Kind.STOPPED, Kind.TIMED_OUT)
+FORWARDED = (LogKind.REPLACED, LogKind.STOPPED, LogKind.TIMED_OUT)
 
 MAX_PENDING = 8  # queued commands waiting to be read
 MAX_UNREAD = 1000  # commands of any kind waiting to be read

@@ -14,7 +14,7 @@ from ..language.events import in_words
 from .session_program import Play, Runner
 
 
-class Kind:
+class LogKind:
     """What a log line tells, so that a reader (the node's log, a session's record) picks lines by
     their kind, never by the words of their text."""
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from baxterface_cli import parse
 from baxterface_cli.engine.live_session import LiveSession
-from baxterface_cli.engine.session_records import Kind
+from baxterface_cli.engine.session_records import LogKind
 from baxterface_cli.engine.session_run import run_over
 from baxterface_cli.language import syntax_tree as n
 from baxterface_cli.language.event_trace import parse_trace
@@ -42,11 +42,11 @@ def test_while_asleep_only_the_asleep_states_handlers_run_and_awake_its_own():
     s.post(TOUCH, 5.0)
     s.post(WHEEL, 7.0)  # awake's own wheel handler, not asleep's
     s.advance(10.0)
-    assert lines(s, Kind.ENTERED) == [
+    assert lines(s, LogKind.ENTERED) == [
         "0 state asleep entered: main script, line 11 'go asleep'",
         "2 state awake entered: line 3 'on button wheel', line 3 'go awake'",
     ]
-    assert lines(s, Kind.STARTED) == [
+    assert lines(s, LogKind.STARTED) == [
         "2 line 3 'on button wheel' runs",
         "5 line 7 'on touch' runs",
         "7 line 8 'on button wheel' runs",
@@ -60,21 +60,20 @@ def test_go_stops_what_runs_where_it_is_and_go_back_returns_to_the_state_before(
     s.advance(3.1)
     eyes = s.face.state(3.1).eye_x
     s.post(n.Event("signal", "back"), 3.1)
-    assert (
-        lines(s, Kind.ENTERED)[-1] == "3.1 state asleep entered: line 10 'on signal back', line 10 'go back'"
-    )
+    went = "3.1 state asleep entered: line 10 'on signal back', line 10 'go back'"
+    assert lines(s, LogKind.ENTERED)[-1] == went
     s.advance(3.5)
     assert 0 < abs(s.face.state(3.5).eye_x) <= abs(eyes) + 1e-6  # stopped where it was, not finished
     s.post(n.Event("signal", "back"), 6.0)
-    assert lines(s, Kind.ENTERED)[-1].startswith("6 state awake entered")
+    assert lines(s, LogKind.ENTERED)[-1].startswith("6 state awake entered")
 
 
 def test_states_that_go_to_each_other_in_no_time_are_stopped_and_the_face_goes_on():
     s = session("state a { go b }\nstate b { go a }\non touch { nod }\ngo a")
-    stopped = lines(s, Kind.STOPPED)
+    stopped = lines(s, LogKind.STOPPED)
     assert len(stopped) == 1 and "100 states were entered without time passing" in stopped[0]
     s.post(TOUCH, 1.0)
-    assert lines(s, Kind.STARTED) == ["1 line 3 'on touch' runs"]
+    assert lines(s, LogKind.STARTED) == ["1 line 3 'on touch' runs"]
 
 
 def test_a_conversation_with_states_renders_the_same_twice_to_the_bit():
