@@ -39,7 +39,10 @@ def test_a_handler_sent_to_the_ros2_node_runs_on_a_signal_and_a_second_one_repla
         )
         seen = state.count()
         commands.publish(data="signal poke")
-        shown = state.wait_for(lambda r: r["emotion"] == "angry", after=seen)
+        # The face may show the handler's first step a moment before the counts say it ran.
+        shown = state.wait_for(
+            lambda r: r["emotion"] == "angry" and runs(r, "line 1 'on signal poke'") >= 1, after=seen
+        )
         assert runs(shown, "line 1 'on signal poke'") == 1
         commands.close()
     finally:
