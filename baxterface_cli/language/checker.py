@@ -11,6 +11,7 @@ from typing import Any, Callable, Dict, Iterator, List, Optional, Sequence, Set,
 from ..core.face_constants import LIMITS
 from . import syntax_tree as n
 from .diagnostics import Diagnostic, Hints, shortened
+from .events import phrases
 from .reaction_checks import check_reactions
 from .script_length import in_words, over_limit
 from .statements import KEYWORDS, statement_seconds
@@ -50,9 +51,10 @@ def walk(body: Sequence[Any]) -> Iterator[Any]:
 def phrases_listened(body: Sequence[Any]) -> List[str]:
     """The phrases the `on word` and `wait until word` in `body` listen for, in order, once each."""
     found = [
-        s.event.arg
+        phrase
         for s in walk(body)
         if isinstance(s, (n.On, n.WaitUntil)) and s.event is not None and s.event.kind == "word"
+        for phrase in phrases(s.event)
     ]
     return list(dict.fromkeys(found))
 

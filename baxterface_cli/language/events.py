@@ -44,6 +44,7 @@ PLACES = ("left eye", "right eye", "mouth", "brows")
 
 POLICIES = ("drop", "queue", "interrupt")
 MOST_WORDS = 8  # words in a `word "..."`: a phrase to spot, not a speech
+ALTERNATIVES = "|"  # between the phrases of `word "hello" | "hi robot"` in its event's arg
 MOST_LETTERS = 60
 SHORTEST_EVERY = 0.1  # seconds: an `every` faster than this is a storm of the script's own
 
@@ -161,21 +162,35 @@ def _place(rest: List[Token]) -> Tuple[str, List[Token]]:
 def _word(
     first: Token, rest: List[Token], error: Error, decode: Decode, pos: n.Pos
 ) -> Tuple[Any, List[Token]]:
-    if not rest or rest[0].type != "STRING":
-        error(rest[0] if rest else first, "'word' needs the words in double quotes: 'word \"hello\"'")
-        return None, []
-    text = decode(rest[0])
-    if text is None:
-        return None, []
-    phrase = " ".join(text.lower().split())
-    if not _PHRASE.fullmatch(phrase) or len(phrase.split()) > MOST_WORDS or len(phrase) > MOST_LETTERS:
-        error(
-            rest[0],
-            f"'word' spots a few words of letters ({MOST_WORDS} at most, {MOST_LETTERS} letters), "
-            f"not {shown(text)}",
-        )
-        return None, []
-    return n.Event("word", phrase, pos=pos), rest[1:]
+    """`word "hello"`, or phrases any of which it takes: `word "hello" | "hi robot"` (their arg
+    joined by ALTERNATIVES, as `phrases` splits it)."""
+    phrases: List[str] = []
+    last = first  # where a missing phrase is said to be missing: after `word`, or after a bar
+    while True:
+        if not rest or rest[0].type != "STRING":
+            error(rest[0] if rest else last, "'word' needs the words in double quotes: 'word \"hello\"'")
+            return None, []
+        text = decode(rest[0])
+        if text is None:
+            return None, []
+        phrase = " ".join(text.lower().split())
+        if not _PHRASE.fullmatch(phrase) or len(phrase.split()) > MOST_WORDS or len(phrase) > MOST_LETTERS:
+            error(
+                rest[0],
+                f"'word' spots a few words of letters ({MOST_WORDS} at most, {MOST_LETTERS} letters), "
+                f"not {shown(text)}",
+            )
+            return None, []
+        phrases.append(phrase)
+        rest = rest[1:]
+        if not rest or rest[0].type != "BAR":
+            return n.Event("word", ALTERNATIVES.join(dict.fromkeys(phrases)), pos=pos), rest
+        last, rest = rest[0], rest[1:]
+
+
+def phrases(event: n.Event) -> List[str]:
+    """The phrases a `word` event takes: one, or each of its alternatives."""
+    return event.arg.split(ALTERNATIVES)
 
 
 def shown(text: str, most: int = 30) -> str:
@@ -188,7 +203,7 @@ def in_words(event: n.Event) -> str:
     if event.kind in TIMERS:
         return f"{event.kind} {event.seconds:g}s"
     if event.kind == "word":
-        return f'word "{event.arg}"'
+        return "word " + " | ".join(f'"{phrase}"' for phrase in phrases(event))
     return f"{event.kind} {event.arg}".strip()
 
 
@@ -201,13 +216,15 @@ def option_words(event: n.Event) -> Tuple[str, ...]:
 def matches(wanted: n.Event, posted: n.Event) -> bool:
     """Does a handler's (or a wait's) event take `posted`? A button without a navigator or cuff
     takes any navigator's (`button dash` any cuff's), `button wheel` either turn, `touch`
-    anywhere; the rest are equal."""
+    anywhere, `word` any of its phrases; the rest are equal."""
     if wanted.kind != posted.kind:
         return False
     if wanted.kind in TIMERS:
         return wanted.seconds == posted.seconds
     if wanted.arg == posted.arg or (wanted.kind == "touch" and not wanted.arg):
         return True
+    if wanted.kind == "word":  # a phrase heard is one; the handler's may be several
+        return posted.arg in phrases(wanted)
     if wanted.kind == "button":
         got = posted.arg.split()
         return (wanted.arg == WHEEL and got[0] == WHEEL) or (

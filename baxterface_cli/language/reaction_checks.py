@@ -11,7 +11,7 @@ from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple
 from ..core.face_constants import LIMITS
 from . import syntax_tree as n
 from .diagnostics import Diagnostic
-from .events import in_words
+from .events import in_words, phrases
 from .script_length import in_words as length_in_words
 from .script_length import over_limit
 from .state_checks import check_states
@@ -205,12 +205,15 @@ def _handler(
 def _phrases(statements: Any, out: List[Diagnostic]) -> None:
     """Listening costs work for every phrase in every second of sound heard (docs/speech.md): a
     script listens for LIMITS.max_phrases phrases at most, said at the statement of the first past it."""
-    phrases: Dict[str, bool] = {}
+    listened: Dict[str, bool] = {}
     for statement in statements:
         event = getattr(statement, "event", None)
         if isinstance(statement, (n.On, n.WaitUntil)) and event is not None and event.kind == "word":
-            if event.arg not in phrases and len(phrases) == LIMITS.max_phrases:
-                most = LIMITS.max_phrases
-                _error(out, statement, f"one phrase too many: a script listens for {most} phrases at most")
-                return
-            phrases[event.arg] = True
+            for phrase in phrases(event):
+                if phrase not in listened and len(listened) == LIMITS.max_phrases:
+                    most = LIMITS.max_phrases
+                    _error(
+                        out, statement, f"one phrase too many: a script listens for {most} phrases at most"
+                    )
+                    return
+                listened[phrase] = True

@@ -121,7 +121,7 @@ class ReactionRules:
 
     def one_of(self, children: List[Any]) -> n.OneOf:
         at, _of, *choices = children
-        return n.OneOf(tuple(choices), pos=self._pos(at))
+        return n.OneOf(tuple(c for c in choices if not isinstance(c, Token)), pos=self._pos(at))
 
     def choice(self, children: List[Any]) -> Tuple[Any, ...]:
         return tuple(children)

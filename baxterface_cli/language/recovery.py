@@ -259,7 +259,7 @@ def _describe_terminal(name: str) -> str:
 
 def _expected(names: Any) -> Tuple[str, List[str]]:
     """A phrase for what the parser wanted, and the keywords among it."""
-    names = set(names) - {"VBAR"}  # a `one of`'s '|': the parser offers it after any block's statement
+    names = set(names) - {"BAR"}  # a `one of`'s '|': the parser offers it after any block's statement
     if "LEGACY" in names:  # the start of a statement: too many to list
         rest = sorted(_describe_terminal(x) for x in names if x in ("RBRACE", "$END"))
         return " or ".join(["a command"] + rest), []

@@ -28,6 +28,7 @@ from typing import Any, Dict, List, NamedTuple, Optional, Tuple
 from ..core.face_constants import LIMITS
 from ..core.partial_files import write_atomic
 from ..engine.animation import Animation
+from ..engine.session_handlers import ons_of
 from ..engine.session_program import first_reacting
 from ..engine.session_run import reactive
 from ..language import syntax_tree as n
@@ -63,8 +64,8 @@ def _key(event: n.Event) -> Tuple[str, str, float]:
 
 
 def listens(script: n.Script) -> List[str]:
-    """The events the script's handlers wait for, as the events bar offers them."""
-    found = [in_words(s.event) for s in script.body if isinstance(s, n.On)]
+    """The events the script's handlers wait for (its states' too), as the events bar offers them."""
+    found = [in_words(on.event) for on, _ in ons_of(script)]
     return sorted(set(found), key=found.index)
 
 
