@@ -105,7 +105,9 @@ def node(
 ) -> None:
     """Run the face node on ROS 1 or ROS 2: the replacement for the old screen_listener.py.
 
-    Takes ROS remappings and the node's parameters as arguments. For example
+    A SCRIPT given first plays once the node is up (its `script` parameter), as
+    a script sent to ~queue does. Takes ROS remappings and the node's parameters
+    as arguments. For example
     (these are not the defaults): on ROS 1, display_chatter:=/other _fps:=20;
     on ROS 2, --ros-args -r display_chatter:=/other -p fps:=20.
 
@@ -124,6 +126,7 @@ def node(
       recordings     the FOLDER 'say file' may read: none (no recording is read)
       listen         words for 'on word': default (the microphone) or a WAV file: none
       barge_in       true|false, hear words while the face speaks: false
+      script         a FILE to play once the node is up: none
       transport      ROS 2: shm|default, as --ros-transport: shm
 
     Commands (old or new) arrive on display_chatter and take over at once;
@@ -134,8 +137,12 @@ def node(
     """
     version = chosen_ros_version("node", ros)
     words, ros_args = split_ros_args(list(ctx.args), version, "node")
-    if version == 2 and words:
-        raise fail(f"baxterface node: unexpected {words[0]!r}; ROS arguments come after --ros-args", 2)
+    if len(words) > 1:
+        raise fail(f"baxterface node: unexpected {words[1]!r}; give one SCRIPT at most", 2)
+    if words:  # the node's `script` parameter, checked here first: its mistakes where they are
+        script_from(words[0], None, "node")
+        path = os.path.abspath(words[0])
+        ros_args += [f"_script:={path}"] if version == 1 else _ros2_parameter(ros_args, f"script:={path}")
     check_transport("node", version, ros_transport, ros_args)
     ros_ready("node", version)
     from ..ros.connect import RosUnavailable
@@ -143,13 +150,18 @@ def node(
     from ..ros.node_settings import SettingError
 
     try:
-        code = run_node([*words, *ros_args], version)
+        code = run_node(ros_args, version)
     except SettingError as e:
         said = str(e) if version == 1 else f"parameter {e.name} {e.problem}"
         raise fail(f"baxterface node: {said}", 2) from None
     except RosUnavailable as e:
         raise fail(f"baxterface node: {e}") from None
     raise typer.Exit(code)
+
+
+def _ros2_parameter(ros_args: List[str], setting: str) -> List[str]:
+    """`-p NAME:=VALUE` after ROS 2's `--ros-args`, which `ros_args` may have already."""
+    return (["--ros-args"] if "--ros-args" not in ros_args else []) + ["-p", setting]
 
 
 def buttons(

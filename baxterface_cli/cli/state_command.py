@@ -159,6 +159,10 @@ def readable(found: Dict[str, Any]) -> str:
         parts.append(f"following {following}")
     if found.get("queued"):
         parts.append(f"{found['queued']} queued")
+    if found.get("state"):
+        parts.append(f"in state {found['state']}")
+    if found.get("running"):
+        parts.append(f"running {found['running']}")
     return "; ".join(parts)
 
 

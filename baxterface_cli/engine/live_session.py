@@ -111,10 +111,10 @@ class LiveSession:
         self.states.install(script)
         if handlers is not self.handlers:
             self.handlers, self._kinds = handlers, by_kind(handlers)
-            for h in handlers:
-                if h.on.event.kind == "every":
-                    self._every.add(h.on.event.seconds, at)
-        rest = [s for s in script.body if not isinstance(s, (n.On, n.Define))]
+            self.last_event, self._idle_fired = max(self.last_event, at), set()  # `idle` from its arrival
+            for h in self._kinds.get("every", ()):
+                self._every.add(h.on.event.seconds, at)
+        rest = [s for s in script.body if not isinstance(s, (n.On, n.Define, n.State))]
         if rest and all(isinstance(s, n.Signal) for s in rest) and self.main is not None:
             for s in rest:
                 self.post(n.Event("signal", s.name), at, f"signal {s.name}")

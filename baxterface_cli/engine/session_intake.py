@@ -128,11 +128,12 @@ class SessionIntake(ClosedOnExit):
             return self.post(n.Event("signal", signal.group(1).lower()), self.filename)
         return self._hand(text, queued, None)
 
-    def take(self, script: n.Script) -> Future:
-        """Hand over a script already read, to take over as a command does: a future, done (None)
-        once the session has it, or holding the ScriptError that stopped it."""
+    def take(self, script: n.Script, queued: bool = False) -> Future:
+        """Hand over a script already read, to take over as a command does (or, `queued`, to wait
+        for the face to be free): a future, done (None) once the session has it, or holding the
+        ScriptError that stopped it."""
         done: Future = Future()
-        refusal = self._hand(script, False, done)
+        refusal = self._hand(script, queued, done)
         if refusal is not None:
             done.set_exception(Refused(refusal))
         return done

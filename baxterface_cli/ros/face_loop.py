@@ -190,6 +190,7 @@ class FaceLoop:
         measured = self.robot.head
         if measured is not None:  # the robot's own pan, when it says it
             state = state.replace(head_pan=measured)
+        session = self.intake.session
         report = {
             **state.as_record(),
             "enabled": self.robot.enabled,
@@ -199,6 +200,9 @@ class FaceLoop:
             "playing": not self.live.finished(now),
             "queued": len(self.intake.waiting),
             "handlers": self.intake.counts,
+            # Read without the session's lock: the worker swaps each whole.
+            "running": session.active.label if session.active is not None else None,
+            "state": session.states.current,
             "saying": self.saying[0] if self.saying and now < self.saying[1] else None,
         }
         text = json.dumps(report, sort_keys=True)

@@ -32,7 +32,9 @@ from ..drawing.renderer import Renderer
 from ..engine.live_face import sleep_face
 from ..engine.live_session import LiveSession
 from ..engine.log_backlog import Backlog
-from ..language.parser import parse
+from ..language.diagnostics import ScriptError
+from ..language.parser import parse, parse_file
+from ..language.syntax_tree import Script
 from ..robot.mtcnn_detector import detector_note
 from ..speech.recordings import Recordings
 from ..speech.synthesis import start_in_background
@@ -96,6 +98,8 @@ class FaceNode:
         link.subscribe(QUEUE, "std_msgs/String", lambda msg: self._heard(msg, True), queue=100)
         if settings.selftest:
             self.intake.take(parse(selftest_script(), "selftest"))  # the worker starts it
+        if settings.script is not None:  # after the selftest, as a script sent to ~queue waits
+            self.intake.take(_started_with(settings.script), queued=True)
 
     def _heard(self, msg: Any, queued: bool) -> None:  # display_chatter and ~queue: hand over
         refusal = self.intake.submit(msg.data, queued)  # parsed off the frame loop
@@ -112,6 +116,14 @@ class FaceNode:
             self.loop.run()
             self.log.close()
         return 0
+
+
+def _started_with(path: str) -> Script:
+    """The script of the `script` parameter, or the setting's one-line error."""
+    try:
+        return parse_file(path)
+    except ScriptError as e:
+        raise SettingError("script", f"cannot be played: {e.summary()}") from None
 
 
 def run_node(argv: List[str], version: int = 1) -> int:

@@ -50,6 +50,8 @@ class NodeSettings:
     # that recording played as a microphone would give it; `barge_in` hears words while it speaks.
     listen: str = ""
     barge_in: bool = False
+    # A script the node starts with (after its selftest), as `baxterface node SCRIPT` gives it.
+    script: Optional[str] = None
 
     @classmethod
     def read(cls, get: Callable[[str, Any], Any], defaults: Optional[NodeSettings] = None) -> NodeSettings:
@@ -73,6 +75,7 @@ class NodeSettings:
             person_near=_number(get, "person_near", d.person_near, 0.1, 5.0, " m"),
             listen=_listen(get, "listen", d.listen),
             barge_in=_flag(get, "barge_in", d.barge_in),
+            script=_file(get, "script"),
         )
 
 
@@ -148,6 +151,16 @@ def _folder(get, name: str) -> Optional[str]:
     path = os.path.abspath(os.path.expanduser(value))
     if not os.path.isdir(path):
         raise SettingError(name, f"must be a folder, not {value[:80]!r}")
+    return path
+
+
+def _file(get, name: str) -> Optional[str]:
+    value = _text(get, name, "").strip()
+    if not value:
+        return None
+    path = os.path.abspath(os.path.expanduser(value))
+    if not os.path.isfile(path):
+        raise SettingError(name, f"must be a script file, not {value[:80]!r}")
     return path
 
 

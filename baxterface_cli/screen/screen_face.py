@@ -205,6 +205,7 @@ class ScreenFace:
         return {
             "handlers": handlers,
             "running": session.active.label if session.active is not None else None,
+            "state": session.states.current,
             "queued": len(session.pending),  # events waiting for their handler's turn now
             "events": self.events,
             "dropped": sum(h["dropped"] for h in handlers),

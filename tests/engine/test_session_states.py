@@ -84,3 +84,21 @@ def test_a_conversation_with_states_renders_the_same_twice_to_the_bit():
     for t in (0.5, 2.5, 5.2, 8.5, 9.5):
         assert first.timeline.sample(t) == again.timeline.sample(t)
     assert "state awake entered" in " ".join(e.text for e in first.log)
+
+
+def test_a_script_of_states_alone_sent_to_a_running_face_installs_them_and_takes_nothing_over():
+    s = session("look left in 5s")
+    s.run(parse("state calm { happy }\non touch { go calm }", "later"), 1.0)
+    assert s.main is not None and s.main.label == "main script" and not s.main.done
+    s.post(TOUCH, 2.0)
+    assert lines(s, LogKind.ENTERED) == ["2 state calm entered: line 2 'on touch', line 2 'go calm'"]
+
+
+def test_idle_counts_from_when_its_script_arrived_not_from_the_faces_start():
+    # Sent to a node up for a minute, `on idle 30s` ran at once: the minute counted as idle.
+    s = LiveSession(idle=False, now=0.0)
+    s.run(parse("on idle 30s { nod }", "later"), 60.0)
+    s.advance(89.0)
+    assert lines(s, LogKind.STARTED) == []
+    s.advance(91.0)
+    assert lines(s, LogKind.STARTED) == ["90 line 1 'on idle 30s' runs"]

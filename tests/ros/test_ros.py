@@ -497,6 +497,30 @@ def test_send_stdin_of_fifty_handler_lines_installs_every_one(ros):
         assert proc.poll() is None
 
 
+def test_the_node_starts_with_a_script_given_to_it_and_says_its_state(ros):
+    from std_msgs.msg import String
+
+    # A new user expected `baxterface node greeter.face`, as `screen greeter.face` starts with it.
+    state = Topic("/baxter_face/state", String)
+    proc = start_node(ros, "scripts_examples/greeter.face")
+    try:
+        record = report(state, test=lambda r: r.get("state") == "asleep")
+        assert record["emotion"] == "sleep" and record["running"] is None
+        assert run_ok(baxterface("state", env=ros)).endswith("; in state asleep")
+    finally:
+        state.close()
+        proc.send_signal(signal.SIGTERM)
+        proc.wait(timeout=20)
+        forget_parameters(ros)
+    bad = baxterface("node", "nowhere.face", env=ros)
+    assert bad.code == 1 and bad.err == "nowhere.face: error: cannot read: No such file or directory\n"
+
+
+def run_ok(run) -> str:
+    assert run.code == 0, run.err
+    return run.out.strip()
+
+
 def test_queued_scripts_play_after_the_current_one(ros, node):
     import rospy
     from std_msgs.msg import String

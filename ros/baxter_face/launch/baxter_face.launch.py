@@ -34,6 +34,7 @@ ARGUMENTS = [
     ("person_near", "1.0", "metres from the head sonar that make `person near`"),
     ("listen", "", "words for `on word`: default (the microphone), a WAV file's path, or empty: none"),
     ("barge_in", "false", "hear words while the face speaks"),
+    ("script", "", "a script file the face plays once it is up, after its selftest; empty: none"),
     ("transport", "shm", "how frames reach this host's peers: shm (shared memory, UDP beside it) or default"),
 ]
 
