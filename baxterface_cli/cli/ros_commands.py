@@ -213,6 +213,22 @@ def send(
         callback=finite,
         help="How long to wait for the face node.",
     ),
+    event: Optional[str] = typer.Option(
+        None,
+        "--event",
+        metavar="EVENT",
+        help="Raise an event instead, as an events file writes it without its time: 'button ok', "
+        "'word \"hello\"', 'touch left eye'.",
+    ),
+    url: Optional[str] = typer.Option(
+        None,
+        "--url",
+        metavar="URL",
+        help="With --event: a running screen or studio, as it printed its address.",
+    ),
+    token: Optional[str] = typer.Option(
+        None, "--token", metavar="TOKEN", help="With --url: the token of a screen or studio off loopback."
+    ),
     ros: Optional[int] = ROS_OPT,
     ros_transport: Optional[str] = TRANSPORT_OPT,
 ) -> None:
@@ -222,8 +238,13 @@ def send(
     no face node listening within --timeout, it says so (exit 1). With
     --stdin, each line is a command of its own: bad lines are reported with
     their line number and skipped, and the exit status is 1 if there were any.
+    With --event, an event reaches the node's handlers (its ~event topic), or
+    with --url a screen's or studio's, as the robot's or a tap would.
     What was sent is printed on standard output, problems on standard error.
     """
+    if event is not None or url is not None:
+        _send_event(event, url, token, timeout, words or [], file, stdin, queue, ctx.args, ros, ros_transport)
+        return
     version = chosen_ros_version("send", ros)
     text_words, ros_args = split_ros_args(list(words or []) + list(ctx.args), version)
     if sum([file is not None, bool(text_words), stdin]) > 1:
@@ -255,6 +276,40 @@ def send(
                     raise fail(f"baxterface send: {bad} line{'s' if bad > 1 else ''} not sent")
                 return
             typer.echo(f"sent {what} to {out.topic} ({listeners(out.send(text))})")
+    except (NoSubscriber, RosUnavailable) as e:
+        raise fail(f"baxterface send: {e}") from None
+
+
+def _send_event(event, url, token, timeout, words, file, stdin, queue, args, ros, ros_transport) -> None:
+    """`send --event LINE`: to the node's ~event topic, or `--url`'s POST /api/event."""
+    from ..language.event_line import read_event_line
+
+    if event is None:
+        raise fail("baxterface send: --url goes with --event", 2)
+    if words or file is not None or stdin or queue:
+        raise fail("baxterface send: give --event or a command, not both", 2)
+    try:
+        read_event_line(event, "<event>")
+    except ScriptError as e:
+        raise fail(e.render()) from None
+    if url is not None:
+        from .web_client import call
+
+        done = call("send", url, token, "/api/event", timeout, body=event)
+        counts = ", ".join(f"{done.get(k, 0)} {k}" for k in ("runs", "dropped", "queued"))
+        typer.echo(f"raised {done.get('event', event)!r} at {url} ({counts})")
+        return
+    version = chosen_ros_version("send", ros)
+    _, ros_args = split_ros_args(list(args), version)
+    check_transport("send", version, ros_transport)
+    ros_ready("send", version)
+    from ..ros.connect import RosUnavailable
+    from ..ros.link import NODE_NAME
+    from ..ros.send import NoSubscriber, Sender, listeners
+
+    try:
+        with Sender(f"{NODE_NAME}/event", timeout, ros_args, version) as out:
+            typer.echo(f"sent event {event!r} to {out.topic} ({listeners(out.send(event))})")
     except (NoSubscriber, RosUnavailable) as e:
         raise fail(f"baxterface send: {e}") from None
 

@@ -14,8 +14,8 @@ from ..extras import MissingTool
 from ..language.diagnostics import ScriptError
 from .app import IDLE_ON_OPT, RANDOM_SEED_OPT, THEME_OPT, echo_warnings, fail, fitted_theme, load_script
 from .finite_numbers import finite
+from .web_client import TOKEN_VARIABLE
 
-TOKEN_VARIABLE = "BAXTERFACE_TOKEN"
 SHORTEST_TOKEN = 16
 TOKEN = re.compile(r"[A-Za-z0-9_.~-]{16,}")  # goes into an address as it is
 

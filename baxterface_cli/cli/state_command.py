@@ -3,10 +3,8 @@
 from __future__ import annotations
 
 import json
-import os
 import threading
 from typing import Any, Dict, List, Optional
-from urllib.parse import parse_qs, urlsplit
 
 import typer
 
@@ -20,10 +18,9 @@ from .ros_commands import (
     ros_ready,
     split_ros_args,
 )
+from .web_client import TOKEN_VARIABLE, call
 
 STATE_TOPIC = "/baxter_face/state"  # the face node's ~state
-LARGEST_ANSWER = 8 * 1024 * 1024  # bytes: a studio's state carries its script (at most 256 KiB) and more
-TOKEN_VARIABLE = "BAXTERFACE_TOKEN"
 
 
 def state(
@@ -71,36 +68,7 @@ def state(
 
 
 def _from_web(url: str, token: Optional[str], timeout: float) -> Dict[str, Any]:
-    import urllib.error
-    import urllib.request
-
-    parts = urlsplit(url)
-    if parts.scheme not in ("http", "https") or not parts.hostname:
-        raise fail(f"baxterface state: --url must be an http:// address, not {url[:80]!r}", 2)
-    token = token or (parse_qs(parts.query).get("token") or [None])[0] or os.environ.get(TOKEN_VARIABLE)
-    address = f"{parts.scheme}://{parts.netloc}/api/state"
-    request = urllib.request.Request(address, headers={"Accept": "application/json"})
-    if token:
-        request.add_header("X-Baxterface-Token", token)
-    try:
-        with urllib.request.urlopen(request, timeout=timeout) as answer:
-            body = answer.read(LARGEST_ANSWER + 1)
-    except urllib.error.HTTPError as e:
-        said = e.read(500).decode("utf-8", "replace").strip()
-        raise fail(f"baxterface state: {address}: {e.code} {said or e.reason}") from None
-    except (urllib.error.URLError, OSError) as e:
-        why = getattr(e, "reason", None) or e
-        raise fail(
-            f"baxterface state: cannot reach {address}: {getattr(why, 'strerror', None) or why}"
-        ) from None
-    try:
-        if len(body) > LARGEST_ANSWER:
-            raise ValueError("the answer is too large")
-        found = json.loads(body.decode("utf-8"))
-        if not isinstance(found, dict):
-            raise ValueError("not a JSON object")
-    except ValueError as e:
-        raise fail(f"baxterface state: {address} is not a screen or a studio: {e}") from None
+    found = call("state", url, token, "/api/state", timeout)
     if "script" in found and isinstance(found.get("status"), dict):  # a studio: its preview's status
         return found["status"]
     return found

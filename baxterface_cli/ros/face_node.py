@@ -33,6 +33,7 @@ from ..engine.live_face import sleep_face
 from ..engine.live_session import LiveSession
 from ..engine.log_backlog import Backlog
 from ..language.diagnostics import ScriptError
+from ..language.event_line import read_event_line
 from ..language.parser import parse, parse_file
 from ..language.syntax_tree import Script
 from ..robot.mtcnn_detector import detector_note
@@ -40,7 +41,7 @@ from ..speech.recordings import Recordings
 from ..speech.synthesis import start_in_background
 from .connect import open_link
 from .face_loop import FaceLoop
-from .link import CHATTER, NODE_NAME, QUEUE, Link
+from .link import CHATTER, EVENT, NODE_NAME, QUEUE, Link
 from .node_settings import NodeSettings, SettingError, theme_layers
 from .speakers import UnknownAudio, default_audio, open_speaker
 from .transport import PARAMETER, TransportError, from_ros_args
@@ -96,10 +97,22 @@ class FaceNode:
         self.intake = self.loop.intake
         link.subscribe(CHATTER, "std_msgs/String", lambda msg: self._heard(msg, False), queue=100)
         link.subscribe(QUEUE, "std_msgs/String", lambda msg: self._heard(msg, True), queue=100)
+        link.subscribe(EVENT, "std_msgs/String", self._event, queue=100)
         if settings.selftest:
             self.intake.take(parse(selftest_script(), "selftest"))  # the worker starts it
         if settings.script is not None:  # after the selftest, as a script sent to ~queue waits
             self.intake.take(_started_with(settings.script), queued=True)
+
+    def _event(self, msg: Any) -> None:
+        """~event: an event raised by hand (`baxterface send --event 'button ok'`), as the robot's."""
+        try:
+            event = read_event_line(msg.data, "~event")
+        except ScriptError as e:
+            self.log.warn(f"bad event: {e.summary()}")
+            return
+        refusal = self.intake.post(event, "~event")
+        if refusal is not None:
+            self.log.warn(refusal)
 
     def _heard(self, msg: Any, queued: bool) -> None:  # display_chatter and ~queue: hand over
         refusal = self.intake.submit(msg.data, queued)  # parsed off the frame loop

@@ -30,6 +30,7 @@ VERSIONS = (1, 2)
 # The face node's topics, in the spelling both versions take ("~" is the node's own).
 CHATTER = "display_chatter"  # commands and scripts in (std_msgs/String)
 QUEUE = "~queue"  # scripts that wait for what is playing
+EVENT = "~event"  # events raised by hand (std_msgs/String, an events file's line without its time)
 STATE = "~state"  # what the face is doing, as JSON, latched (transient local on ROS 2)
 NODE_NAME = "baxter_face"
 

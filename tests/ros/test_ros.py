@@ -516,6 +516,17 @@ def test_the_node_starts_with_a_script_given_to_it_and_says_its_state(ros):
     assert bad.code == 1 and bad.err == "nowhere.face: error: cannot read: No such file or directory\n"
 
 
+def test_send_event_raises_an_event_at_the_node_as_the_robot_would(ros):
+    with running_node(ros) as (proc, state):
+        chatter("on button ok { happy }")
+        report(state, test=lambda r: len(r.get("handlers", {})) == 1)
+        sent = run_ok(baxterface("send", "--event", "button ok", env=ros))
+        assert sent == "sent event 'button ok' to /baxter_face/event (1 listener)"
+        record = report(state, test=lambda r: r["emotion"] == "happy" and runs(r, "line 1") == 1)
+        assert record["handlers"]["line 1 'on button ok'"]["runs"] == 1
+        assert proc.poll() is None
+
+
 def run_ok(run) -> str:
     assert run.code == 0, run.err
     return run.out.strip()
