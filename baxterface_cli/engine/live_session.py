@@ -16,7 +16,6 @@ that falls behind its clock stops the run doing it; a recorded run counts every 
 
 from __future__ import annotations
 
-import itertools
 import random
 import threading
 from collections import deque
@@ -29,9 +28,10 @@ from ..language.diagnostics import Diagnostic, ScriptError
 from ..language.events import TIMERS, in_words, matches
 from .effects import Cue
 from .live_face import LiveFace
+from .session_answers import Answering
 from .session_handlers import EveryClock, by_kind, install, key_of, why_dropped
-from .session_program import Await, Goto, Lap, Play, Runner
-from .session_records import Handler, Logged, LogKind, Run
+from .session_program import Await, Goto, Lap, Listen, Play, Runner
+from .session_records import AtOnce, Handler, Logged, LogKind, Run, SessionLog
 from .session_states import States
 from .session_steps import compile_step, round_rest
 from .timeline import Timeline
@@ -61,31 +61,27 @@ class LiveSession:
         log_lines: Optional[int] = MAX_LOG,
         keep_up: bool = False,
     ) -> None:
-        """`record` keeps every timeline started, with its time (`segments`), for a render;
-        `keep_up` is for a face on a real clock, which stops a run that cannot keep time."""
+        """`record`: keep each timeline begun (`segments`), for a render; `keep_up`: a real clock's."""
         self.lock = threading.RLock()
         self.face = LiveFace(start or FaceState(), idle=idle, seed=seed, now=now, recordings=recordings)
         self.rng = random.Random(f"one of:{seed}")
-        self.recordings = recordings
-        self.crossfade = crossfade
+        self.recordings, self.crossfade = recordings, crossfade
         self.clock = now
         self.handlers: List[Handler] = []  # swapped whole when it changes: read without the lock
         self._kinds: Dict[str, List[Handler]] = {}  # the handlers of each kind of event
         self.main: Optional[Run] = None
         self.active: Optional[Run] = None
         self.pending: Deque[Tuple[Handler, n.Event]] = deque()
-        self.log: Deque[Logged] = deque(maxlen=log_lines)
-        self.logged = 0  # lines ever logged: the log keeps the last `log_lines`
+        self.log = SessionLog(log_lines)
         self.segments: Optional[List[Tuple[float, Timeline]]] = [] if record else None
         self.cues: List[Cue] = []  # handed out by the next tick
-        self.exited = False
-        self.exited_at: Optional[float] = None  # when: a recorded run ends there
+        self.exited, self.exited_at = False, None  # and when: a recorded run ends there
         self.ignored = 0  # events after the face exited
         self.last_event = now
         self._idle_fired: set = set()
         self._every = EveryClock()
         self.states = States()  # the states installed, the one the face is in
-        self._burst = (now, 0)  # (an instant, the handler runs started at it)
+        self._starts = AtOnce()  # handler runs started at one instant
         self.steps = 0  # steps taken: a recorded run takes LIMITS.max_run_steps at most
         self.keep_up = keep_up
         self._behind = 0  # due steps taken in a row while LIMITS.max_lag behind the clock
@@ -96,9 +92,8 @@ class LiveSession:
     # -- in
 
     def run(self, script: n.Script, now: float) -> None:
-        """Install `script`'s handlers (one for an event already handled replaces it); raise its
-        signals, when that is all it says; or else make its statements the main script, stopping
-        whatever runs."""
+        """Install `script`'s handlers and states; raise its signals, when that is all it says;
+        or else make its statements the main script, stopping whatever runs."""
         with self.lock:
             self._run(script, now)
 
@@ -107,7 +102,7 @@ class LiveSession:
         at = self.clock
         handlers, replaced = install(self.handlers, script)  # ScriptError past the bounds: nothing done
         for event in {key_of(h): h.on.event for h in replaced}.values():
-            self._note(at, LogKind.REPLACED, f"{in_words(event)}: its handler replaced")
+            self.log.note(at, LogKind.REPLACED, f"{in_words(event)}: its handler replaced")
         self.states.install(script)
         if handlers is not self.handlers:
             self.handlers, self._kinds = handlers, by_kind(handlers)
@@ -121,12 +116,8 @@ class LiveSession:
             return
         if not rest and self.main is not None:
             return
-        if self.active is not None:
-            self._note(at, LogKind.TAKEN_OVER, f"{self.active.label} stopped by a new script")
-            self.active = None
-        self.pending.clear()
-        self._pause(self.main, at)
-        self.main = Run(Runner(script.body, script.definitions, self.rng), script, "main script")
+        main = Run(Runner(script.body, script.definitions, self.rng), script, "main script")
+        self._take_over(main, at, "a new script")
         self._drive(at)
 
     def post(self, event: n.Event, at: float, source: str = "") -> None:
@@ -146,9 +137,8 @@ class LiveSession:
             return state, cues
 
     def frame(self, now: float) -> Tuple[FaceState, List[Cue]]:
-        """`tick` for a frame loop that must not wait: never compiles, never waits for the lock.
-        While a worker is busy, or a step falls due that it has still to take, the face is what
-        plays (its idle life goes on) and the cues wait for a later frame."""
+        """`tick` for a frame loop that must not wait: never compiles, never waits for the lock; while
+        a worker is busy, or a step it has to take is due, the face plays on and the cues wait."""
         cues: List[Cue] = []
         if self.lock.acquire(blocking=False):
             try:
@@ -162,8 +152,7 @@ class LiveSession:
 
     @property
     def free(self) -> bool:
-        """Is the face free for a queued script: no handler running or waiting, the main script done?
-        (Read without the lock too, by a loop that must not wait: each of these is swapped whole.)"""
+        """No handler running or waiting, the main script done? (Read without the lock too.)"""
         main = self.main
         return self.active is None and not self.pending and (main is None or main.done)
 
@@ -192,13 +181,12 @@ class LiveSession:
             self.clock = max(self.clock, until)
 
     def _fall_behind(self, now: float) -> None:
-        """A live face that cannot keep time: the run whose steps fell due long ago is stopped, the
-        `every` ticks missed meanwhile are let go, and the face goes on from `now`."""
+        """A live face that cannot keep time: the run due long ago stops, missed ticks are let go."""
         self._behind = 0
         run = self._owner()
         if run is not None and not run.done:
             why = f"{now - self.clock:.1f} s behind the clock, its steps too short to keep time"
-            self._note(self.clock, LogKind.STOPPED, f"{run.label} stopped: {why}")
+            self.log.note(self.clock, LogKind.STOPPED, f"{run.label} stopped: {why}")
             run.playing = run.waiting = None
             self._finished(run, self.clock)
         self._every.skip_past(now)
@@ -223,22 +211,19 @@ class LiveSession:
                     found.append((at, 1, lambda run=run: self._woken(run, self.clock)))
         tick = self._every.first()
         if tick is not None:
-            found.append((tick[0], 2, self._tick_every))
+            found.append((tick[0], 2, lambda: self._fire(n.Event("every", seconds=tick[1]))))
         for seconds in {h.on.event.seconds for h in self._kinds.get("idle", ()) if self.states.live(h.state)}:
+            idle = n.Event("idle", seconds=seconds)
             if seconds not in self._idle_fired:
-                found.append((self.last_event + seconds, 3, lambda s=seconds: self._fire_idle(s)))
+                found.append((self.last_event + seconds, 3, lambda idle=idle: self._fire(idle)))
         if not found:
             return None
         at, _, action = min(found, key=lambda f: (f[0], f[1]))
         return at, action
 
-    def _tick_every(self) -> None:
-        period = self._every.tick()
-        self._dispatch(n.Event("every", seconds=period), self.clock, "")
-
-    def _fire_idle(self, seconds: float) -> None:
-        self._idle_fired.add(seconds)
-        self._dispatch(n.Event("idle", seconds=seconds), self.clock, "")
+    def _fire(self, event: n.Event) -> None:  # a timer: `every` ticks again a period on, `idle` once
+        (self._every.tick() if event.kind == "every" else self._idle_fired.add(event.seconds))
+        self._dispatch(event, self.clock, "")
 
     # -- events
 
@@ -247,11 +232,11 @@ class LiveSession:
             self.ignored += 1
             return
         if event.kind not in TIMERS:  # a timer's tick is told only by what it starts
-            self._note(at, LogKind.EVENT, f"event {in_words(event)}" + (f" ({source})" if source else ""))
+            self.log.note(at, LogKind.EVENT, f"event {in_words(event)}" + (f" ({source})" if source else ""))
             self.last_event = at
             self._idle_fired.clear()
         for run in (self.main, self.active):
-            if run is not None and run.waiting is not None and matches(run.waiting[0].event, event):
+            if run is not None and run.waiting is not None and self._hears(run, event, at):
                 self._woken(run, at, go=False)
         live = [h for h in self._kinds.get(event.kind, ()) if self.states.live(h.state)]
         for handler in [h for h in live if matches(h.on.event, event)]:
@@ -263,15 +248,15 @@ class LiveSession:
         why = why_dropped(handler, at, self.active, queued)
         if why is not None:
             handler.dropped += 1
-            self._note(at, LogKind.DROPPED, f"dropped {in_words(event)}{why}")
+            self.log.note(at, LogKind.DROPPED, f"dropped {in_words(event)}{why}")
         elif self.active is None:
             self._start(handler, at, cut=handler.on.policy == "interrupt")
         elif handler.on.policy == "queue":
             handler.queued += 1
             self.pending.append((handler, event))
-            self._note(at, LogKind.QUEUED, f"queued {in_words(event)} for {handler.label}")
+            self.log.note(at, LogKind.QUEUED, f"queued {in_words(event)} for {handler.label}")
         else:
-            self._note(at, LogKind.INTERRUPTED, f"{self.active.label} interrupted")
+            self.log.note(at, LogKind.INTERRUPTED, f"{self.active.label} interrupted")
             self._pause(self.active, at)  # it may be between steps: raising this very signal
             self.active = None
             self._start(handler, at, cut=True)
@@ -279,28 +264,26 @@ class LiveSession:
     def _start(self, handler: Handler, at: float, cut: bool) -> bool:
         """Start a run of `handler` (`_drive` takes its steps); False if handlers have started one
         another too often at `at`, a loop that takes no time."""
-        started = self._burst[1] + 1 if self._burst[0] == at else 1
-        self._burst = (at, started)
-        if started > MAX_STARTS_AT_ONCE:
+        if self._starts.add(at) > MAX_STARTS_AT_ONCE:
             handler.dropped += 1
             self.pending.clear()
-            if started == MAX_STARTS_AT_ONCE + 1:
-                self._note(
-                    at,
-                    LogKind.STOPPED,
-                    f"{handler.label} not run: {MAX_STARTS_AT_ONCE} handler runs began "
-                    "without time passing (handlers that raise each other's signals?)",
-                )
+            if self._starts.count == MAX_STARTS_AT_ONCE + 1:
+                why = f"{MAX_STARTS_AT_ONCE} handler runs began without time passing"
+                why += " (handlers that raise each other's signals?)"
+                self.log.note(at, LogKind.STOPPED, f"{handler.label} not run: {why}")
             return False
         handler.runs += 1
         handler.last_start = at
-        if self.main is not None:
-            self._pause(self.main, at)
-        script = handler.script
-        run = Run(Runner(handler.on.body, script.definitions, self.rng), script, handler.label, handler)
+        self._pause(self.main, at)
+        run = Run(
+            Runner(handler.on.body, handler.script.definitions, self.rng),
+            handler.script,
+            handler.label,
+            handler,
+        )
         run.carry = not cut
         self.active = run
-        self._note(at, LogKind.STARTED, f"{handler.label} runs")
+        self.log.note(at, LogKind.STARTED, f"{handler.label} runs")
         return True
 
     # -- runs
@@ -326,10 +309,23 @@ class LiveSession:
         if go:
             self._drive(at)
 
+    def _hears(self, run: Run, event: n.Event, at: float) -> bool:
+        """Does `run`'s wait take `event`? An `ask` goes on with the answer it chose."""
+        wait = run.waiting[0]  # type: ignore[index]
+        if not isinstance(wait, Answering):
+            return matches(wait.event, event)
+        said = wait.take(run.runner, event)
+        if said is not None:
+            self.log.note(at, LogKind.ANSWERED, f"{run.label}: {said}")
+        return said is not None
+
     def _timed_out(self, run: Run) -> None:
         wait, _ = run.waiting  # type: ignore[misc]
-        said = f"'wait until {in_words(wait.event)}'"
-        self._note(self.clock, LogKind.TIMED_OUT, f"{run.label}: {said} timed out")
+        if isinstance(wait, Answering):
+            kind, said = LogKind.ANSWERED, wait.take(run.runner)
+        else:
+            kind, said = LogKind.TIMED_OUT, f"'wait until {in_words(wait.event)}' timed out"
+        self.log.note(self.clock, kind, f"{run.label}: {said}")
         self._woken(run, self.clock)
 
     def _played(self, run: Run) -> None:
@@ -356,7 +352,7 @@ class LiveSession:
                 taken[id(run)] = taken.get(id(run), 0) + 1
                 if taken[id(run)] > MAX_STEPS_AT_ONCE:
                     why = f"it took {MAX_STEPS_AT_ONCE} steps without time passing"
-                    self._note(at, LogKind.STOPPED, f"{run.label} stopped: {why}")
+                    self.log.note(at, LogKind.STOPPED, f"{run.label} stopped: {why}")
                     self._finished(run, at)
                     continue
                 self._step(run, at)
@@ -376,6 +372,8 @@ class LiveSession:
             self._play(run, step, at)
         elif isinstance(step, Await):
             run.waiting = (step.statement, at)
+        elif isinstance(step, Listen):
+            run.waiting = (Answering(step.statement), at)  # type: ignore[assignment]
         elif isinstance(step, Goto):
             self._go_to(run, step.statement, at)
         elif isinstance(step, Lap):
@@ -391,24 +389,29 @@ class LiveSession:
         name, why = self.states.target(go, at)
         said = f"line {go.pos.line} 'go {go.name}'"
         if name is None:
-            self._note(at, LogKind.STOPPED, f"{run.label}: {said} {why}")
+            self.log.note(at, LogKind.STOPPED, f"{run.label}: {said} {why}")
             if why.startswith("stopped"):
                 self._finished(run, at)
             return
-        if self.active is not None and self.active is not run:
-            self._note(at, LogKind.TAKEN_OVER, f"{self.active.label} stopped: the face goes to state {name}")
-        self._pause(self.active, at)
-        self.active = None
-        self.pending.clear()
-        self._pause(self.main, at)
         state, script = self.states.enter(name)
-        self._note(at, LogKind.ENTERED, f"state {name} entered: {run.label}, {said}")
-        self.main = Run(Runner(state.body, script.definitions, self.rng), script, f"state {name}")
-        self.main.carry = False  # what the face was doing stops where it is
+        entered = Run(Runner(state.body, script.definitions, self.rng), script, f"state {name}")
+        entered.carry = False  # what the face was doing stops where it is
+        self._take_over(entered, at, f"going to {name}", by=run)
+        self.log.note(at, LogKind.ENTERED, f"state {name} entered: {run.label}, {said}")
+
+    def _take_over(self, main: Run, at: float, why: str, by: Optional[Run] = None) -> None:
+        """`main` is what the face does now: the handler running (but `by`, which said so) and the
+        main script stop where they are, and the events queued are let go."""
+        if self.active is not None and self.active is not by:
+            self.log.note(at, LogKind.TAKEN_OVER, f"{self.active.label} stopped by {why}")
+        self._pause(self.active, at)
+        self._pause(self.main, at)
+        self.active, self.main = None, main
+        self.pending.clear()
 
     def _finished(self, run: Run, at: float) -> None:
         run.done = True
-        self._note(at, LogKind.ENDED, f"{run.label} ends")
+        self.log.note(at, LogKind.ENDED, f"{run.label} ends")
         if run is not self.active:
             return
         self.active = None
@@ -417,7 +420,7 @@ class LiveSession:
             if self._start(handler, at, cut=False):
                 return
         if self.main is not None and not self.main.done and self.active is None:
-            self._note(at, LogKind.RESUMED, f"{self.main.label} goes on")  # `_drive` takes it on
+            self.log.note(at, LogKind.RESUMED, f"{self.main.label} goes on")  # `_drive` takes it on
 
     def _play(self, run: Run, step: Play, at: float) -> None:
         playing, started = self.face.timeline, self.face.started
@@ -433,17 +436,15 @@ class LiveSession:
         run.playing = (step, at, at + length)
 
     def _exit(self) -> None:
-        self._note(self.clock, LogKind.EXITED, "the face exits")
+        self.log.note(self.clock, LogKind.EXITED, "the face exits")
         self.exited, self.exited_at = True, self.clock
         self.active = None
         self.pending.clear()
 
-    def _note(self, at: float, kind: str, text: str) -> None:
-        self.log.append(Logged(at, text, kind))
-        self.logged += 1
+    @property
+    def logged(self) -> int:
+        return self.log.logged  # lines ever logged: the log keeps the last `log_lines`
 
     def lines_since(self, logged: int) -> List[Logged]:
-        """The log's lines after the first `logged` ever logged (those it still keeps)."""
         with self.lock:
-            new = min(self.logged - logged, len(self.log))
-            return list(itertools.islice(reversed(self.log), new))[::-1]  # the new only: a storm
+            return self.log.since(logged)

@@ -25,13 +25,13 @@ from .live_face import LiveFace
 from .live_session import LiveSession
 from .session_handlers import by_kind
 from .session_program import Runner, _Frame
-from .session_records import Handler, Run
+from .session_records import Handler, Run, SessionLog
 
 # Every attribute a session has, so that one added to it later is not silently left shared.
 _SESSION = {
     "lock", "face", "rng", "recordings", "crossfade", "clock", "handlers", "main", "active", "pending",
-    "log", "logged", "segments", "cues", "exited", "ignored", "last_event", "_idle_fired", "_every",
-    "_burst", "steps", "exited_at", "_kinds", "keep_up", "_behind", "_driving", "states",
+    "log", "segments", "cues", "exited", "ignored", "last_event", "_idle_fired", "_every",
+    "_starts", "steps", "exited_at", "_kinds", "keep_up", "_behind", "_driving", "states",
 }  # fmt: skip
 _FACE = {"rng", "recordings", "idle_on", "_robot", "pending", "_playing"}
 _RUN = {"runner", "script", "label", "handler", "playing", "exiting", "waiting", "done", "carry"}
@@ -77,12 +77,13 @@ def fork(session: LiveSession) -> LiveSession:
         twin.main = _run(session.main, handler, twin.rng)
         twin.active = _run(session.active, handler, twin.rng)
         twin.pending = deque((handler(h), event) for h, event in session.pending)
-        twin.log = deque(maxlen=session.log.maxlen)
+        twin.log = SessionLog(session.log.maxlen)
         twin.segments = None if session.segments is None else []
         twin.cues = list(session.cues)
         twin._idle_fired = set(session._idle_fired)
         twin._every = session._every.copy()
         twin.states = session.states.copy()
+        twin._starts = copy.copy(session._starts)
         return twin
 
 

@@ -2,9 +2,10 @@
 
 The session (live_session.py) runs the main script and each handler's run as a `Runner`: a
 statement the compiler can take is handed out whole, to be compiled and played from the face as
-it is; `wait until`, `signal` and `go` are handed out for the session to do; `repeat`, calls and
-`forever` that hold them are walked here, and `one of` chooses here, from the session's seeded
-random stream, so the same seed makes the same choices.
+it is; `wait until`, `signal`, `go` and an `ask`'s listening (after its question, a `say`) are
+handed out for the session to do; `repeat`, calls and `forever` that hold them are walked here,
+and `one of` chooses here, from the session's seeded random stream, so the same seed makes the
+same choices.
 """
 
 from __future__ import annotations
@@ -16,7 +17,7 @@ from ..language import syntax_tree as n
 from ..language.diagnostics import Diagnostic, ScriptError
 from ..language.statements import describe
 
-_CHOOSING = (n.OneOf, n.WaitUntil, n.Forever, n.Signal, n.Go)  # what the compiler never sees
+_CHOOSING = (n.OneOf, n.WaitUntil, n.Forever, n.Signal, n.Go, n.Ask)  # what the compiler never sees
 
 
 class Play(NamedTuple):
@@ -33,6 +34,18 @@ class Raise(NamedTuple):
     statement: n.Signal
 
 
+class Listen(NamedTuple):
+    """`ask`'s question is said: the session listens for its answers (session_answers.py)."""
+
+    statement: n.Ask
+
+
+class _Listening(NamedTuple):
+    """In a frame after an `ask`'s question: where the runner hands out `Listen`."""
+
+    ask: n.Ask
+
+
 class Goto(NamedTuple):
     """`go NAME`: the session enters the state (session_states.py)."""
 
@@ -45,7 +58,7 @@ class Lap(NamedTuple):
     frame: _Frame
 
 
-Step = Union[Play, Await, Raise, Goto, Lap]
+Step = Union[Play, Await, Raise, Goto, Listen, Lap]
 
 
 class _Frame:
@@ -89,6 +102,11 @@ class Runner:
         else:
             self.again = play
 
+    def then(self, body: Sequence[Any]) -> None:
+        """Go on with `body` first (an answer's), then where the runner was."""
+        if body:
+            self.frames.append(_Frame(body, 1))
+
     def next(self) -> Optional[Step]:
         """The next step, or None when the body is done."""
         if self.again is not None:
@@ -120,6 +138,11 @@ class Runner:
             return Await(s)
         if isinstance(s, n.Go):
             return Goto(s)
+        if isinstance(s, _Listening):
+            return Listen(s.ask)
+        if isinstance(s, n.Ask):  # its question, said as `say` is; then it listens
+            self.frames.append(_Frame((s.question, _Listening(s)), 1))
+            return None
         if isinstance(s, n.Signal):
             return Raise(s)
         if isinstance(s, n.OneOf):

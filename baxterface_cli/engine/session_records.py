@@ -7,7 +7,9 @@ copies them field by field, so a field added here must be added there too (it ch
 
 from __future__ import annotations
 
-from typing import NamedTuple, Optional, Tuple
+import itertools
+from collections import deque
+from typing import List, NamedTuple, Optional, Tuple
 
 from ..language import syntax_tree as n
 from ..language.events import in_words
@@ -30,6 +32,7 @@ class LogKind:
     STOPPED = "stopped"  # a run stopped by a bound: steps or starts at one instant, falling behind
     TAKEN_OVER = "taken over"  # a handler's run stopped by a new main script
     ENTERED = "entered"  # the face entered a state
+    ANSWERED = "answered"  # an `ask` heard its answer (or nothing)
     EXITED = "exited"  # the face exited
 
 
@@ -39,6 +42,41 @@ class Logged(NamedTuple):
     at: float
     text: str
     kind: str
+
+
+class AtOnce:
+    """How many times something happened at one instant of the session's clock: a loop that
+    takes no time (handlers that start one another, states that go to one another) is bounded."""
+
+    __slots__ = ("at", "count")
+
+    def __init__(self) -> None:
+        self.at: Optional[float] = None
+        self.count = 0
+
+    def add(self, at: float) -> int:
+        if at != self.at:
+            self.at, self.count = at, 0
+        self.count += 1
+        return self.count
+
+
+class SessionLog(deque):
+    """A session's log: its last `maxlen` lines (all, for None), and how many were ever logged."""
+
+    def __init__(self, maxlen: Optional[int]) -> None:
+        super().__init__(maxlen=maxlen)
+        self.logged = 0
+
+    def note(self, at: float, kind: str, text: str) -> None:
+        self.append(Logged(at, text, kind))
+        self.logged += 1
+
+    def since(self, logged: int) -> List[Logged]:
+        """The lines after the first `logged` ever logged (those it still keeps), the new only: a
+        storm's log is not read whole for its last few lines."""
+        new = min(self.logged - logged, len(self))
+        return list(itertools.islice(reversed(self), new))[::-1]
 
 
 class Handler:

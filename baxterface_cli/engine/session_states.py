@@ -9,11 +9,13 @@ passing are stopped at `MAX_ENTRIES_AT_ONCE`, as handlers that start one another
 
 from __future__ import annotations
 
+import copy
 from typing import Dict, Optional, Tuple
 
 from ..language import syntax_tree as n
 from ..language.state_checks import BACK
 from .session_handlers import kept_for
+from .session_records import AtOnce
 
 MAX_ENTRIES_AT_ONCE = 100  # states entered without time passing: `state a { go b }`, `state b { go a }`
 
@@ -25,7 +27,7 @@ class States:
         self.known: Dict[str, Tuple[n.State, n.Script]] = {}  # each with what its body needs
         self.current: Optional[str] = None
         self.came_from: Optional[str] = None
-        self._burst: Tuple[float, int] = (-1.0, 0)  # (an instant, the states entered at it)
+        self._entries = AtOnce()  # states entered at one instant
 
     def install(self, script: n.Script) -> None:
         definitions = script.definitions
@@ -39,9 +41,7 @@ class States:
             return None, "has no state to go back to: the face came from none"
         if name not in self.known:
             return None, f"goes to no state: this face has no state '{name}'"
-        entered = self._burst[1] + 1 if self._burst[0] == at else 1
-        self._burst = (at, entered)
-        if entered > MAX_ENTRIES_AT_ONCE:
+        if self._entries.add(at) > MAX_ENTRIES_AT_ONCE:
             return None, f"stopped: {MAX_ENTRIES_AT_ONCE} states were entered without time passing"
         return name, ""
 
@@ -56,5 +56,5 @@ class States:
     def copy(self) -> States:
         twin = States()
         twin.known = dict(self.known)
-        twin.current, twin.came_from, twin._burst = self.current, self.came_from, self._burst
+        twin.current, twin.came_from, twin._entries = self.current, self.came_from, copy.copy(self._entries)
         return twin

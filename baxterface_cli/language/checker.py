@@ -53,8 +53,13 @@ def phrases_listened(body: Sequence[Any]) -> List[str]:
     found = [
         phrase
         for s in walk(body)
-        if isinstance(s, (n.On, n.WaitUntil)) and s.event is not None and s.event.kind == "word"
-        for phrase in phrases(s.event)
+        for phrase in (
+            phrases(s.event)
+            if isinstance(s, (n.On, n.WaitUntil)) and s.event is not None and s.event.kind == "word"
+            else [p for answer in s.answers for p in answer.phrases]
+            if isinstance(s, n.Ask)
+            else []
+        )
     ]
     return list(dict.fromkeys(found))
 
@@ -193,6 +198,15 @@ def _measure_one(statement: Any, called: Dict[str, Measure], timed: Seconds = st
     if isinstance(statement, n.OneOf):  # the longest choice; every choice is compiled, one at a time
         choices = [measure(choice, called, timed) for choice in statement.choices]
         return max(c[0] for c in choices), sum(c[1] for c in choices)
+    if isinstance(statement, n.Ask):  # the question, then the longest answer (`nothing` after its wait)
+        said = _measure_one(statement.question, called, timed)
+        branches = [measure(a.body, called, timed) for a in statement.answers]
+        branches += [measure(statement.otherwise, called, timed)] if statement.otherwise else []
+        if statement.nothing is not None:
+            wait, body = statement.nothing
+            after = measure(body, called, timed)
+            branches.append((wait + after[0], after[1]))
+        return said[0] + max(b[0] for b in branches or [(0.0, 0)]), said[1] + sum(b[1] for b in branches)
     if isinstance(statement, (n.On, n.State)):  # its length is its own (reaction_checks.py), not the script's
         return 0.0, measure(statement.body, called, timed)[1]
     if isinstance(statement, n.Forever):  # one round: the rounds after it are the session's

@@ -24,6 +24,7 @@ KINDS = (
     "person gone",
     "button",
     "word",
+    "heard",
     "touch",
     "signal",
     "every",
@@ -44,6 +45,7 @@ PLACES = ("left eye", "right eye", "mouth", "brows")
 
 POLICIES = ("drop", "queue", "interrupt")
 MOST_WORDS = 8  # words in a `word "..."`: a phrase to spot, not a speech
+MOST_HEARD = 1000  # characters of an utterance heard that an event keeps
 ALTERNATIVES = "|"  # between the phrases of `word "hello" | "hi robot"` in its event's arg
 MOST_LETTERS = 60
 SHORTEST_EVERY = 0.1  # seconds: an `every` faster than this is a storm of the script's own
@@ -100,6 +102,16 @@ def read_event(
         return n.Event("signal", str(rest[0]).lower(), pos=pos), rest[1:]
     if word == "word":
         return _word(first, rest, error, decode, pos)
+    if word == "heard":  # a whole utterance, as a recogniser gives it: `4 heard "yes please"`
+        text = decode(rest[0]) if rest and rest[0].type == "STRING" else None
+        if text is None:
+            if not rest or rest[0].type != "STRING":
+                error(
+                    rest[0] if rest else first,
+                    "'heard' needs what was said in double quotes: 'heard \"yes please\"'",
+                )
+            return None, []
+        return n.Event("heard", " ".join(text.lower().split())[:MOST_HEARD], pos=pos), rest[1:]
     if not rest or rest[0].type != "QUANTITY":
         error(rest[0] if rest else first, f"'{word}' needs a time: '{word} 5s'")
         return None, []
@@ -173,19 +185,30 @@ def _word(
         text = decode(rest[0])
         if text is None:
             return None, []
-        phrase = " ".join(text.lower().split())
-        if not _PHRASE.fullmatch(phrase) or len(phrase.split()) > MOST_WORDS or len(phrase) > MOST_LETTERS:
-            error(
-                rest[0],
-                f"'word' spots a few words of letters ({MOST_WORDS} at most, {MOST_LETTERS} letters), "
-                f"not {shown(text)}",
-            )
+        phrase = phrase_of(text)
+        if phrase is None:
+            error(rest[0], not_a_phrase("'word' spots", text))
             return None, []
         phrases.append(phrase)
         rest = rest[1:]
         if not rest or rest[0].type != "BAR":
             return n.Event("word", ALTERNATIVES.join(dict.fromkeys(phrases)), pos=pos), rest
         last, rest = rest[0], rest[1:]
+
+
+def phrase_of(text: str) -> Optional[str]:
+    """`text` as a phrase to listen for (lower case, single spaces), or None if it cannot be one."""
+    phrase = " ".join(text.lower().split())
+    if not _PHRASE.fullmatch(phrase) or len(phrase.split()) > MOST_WORDS or len(phrase) > MOST_LETTERS:
+        return None
+    return phrase
+
+
+def not_a_phrase(subject: str, text: str) -> str:
+    """Why `text` is no phrase, said of `subject` (`'word' spots`, `an answer is`)."""
+    return (
+        f"{subject} a few words of letters ({MOST_WORDS} at most, {MOST_LETTERS} letters), not {shown(text)}"
+    )
 
 
 def phrases(event: n.Event) -> List[str]:
@@ -204,6 +227,8 @@ def in_words(event: n.Event) -> str:
         return f"{event.kind} {event.seconds:g}s"
     if event.kind == "word":
         return "word " + " | ".join(f'"{phrase}"' for phrase in phrases(event))
+    if event.kind == "heard":
+        return f'heard "{event.arg}"'
     return f"{event.kind} {event.arg}".strip()
 
 

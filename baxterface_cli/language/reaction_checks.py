@@ -18,8 +18,15 @@ from .state_checks import check_states
 
 # What cannot run inside a `together`, whose statements are compiled side by side into one
 # timeline: each of these holds the session up, or hands it an event, at its own moment.
-_ON_THEIR_OWN = (n.WaitUntil, n.Forever, n.Signal, n.On, n.Go)
-_NAMES = {n.WaitUntil: "wait until", n.Forever: "forever", n.Signal: "signal", n.On: "on", n.Go: "go"}
+_ON_THEIR_OWN = (n.WaitUntil, n.Forever, n.Signal, n.On, n.Go, n.Ask)
+_NAMES = {
+    n.WaitUntil: "wait until",
+    n.Forever: "forever",
+    n.Signal: "signal",
+    n.On: "on",
+    n.Go: "go",
+    n.Ask: "ask",
+}
 
 Measure = Callable[[Sequence[Any]], Tuple[float, int]]
 
@@ -141,7 +148,9 @@ def _together(block: n.Together, held: Dict[str, Any], out: List[Diagnostic]) ->
 
 
 def _waits(statement: Any, waiting: set) -> bool:
-    return isinstance(statement, n.WaitUntil) or (isinstance(statement, n.Call) and statement.name in waiting)
+    return isinstance(statement, (n.WaitUntil, n.Ask)) or (
+        isinstance(statement, n.Call) and statement.name in waiting
+    )
 
 
 def _spinning(forever: n.Forever, waiting: set, measure: Measure, out: List[Diagnostic]) -> None:
@@ -208,8 +217,13 @@ def _phrases(statements: Any, out: List[Diagnostic]) -> None:
     listened: Dict[str, bool] = {}
     for statement in statements:
         event = getattr(statement, "event", None)
+        heard: List[str] = []
         if isinstance(statement, (n.On, n.WaitUntil)) and event is not None and event.kind == "word":
-            for phrase in phrases(event):
+            heard = phrases(event)
+        elif isinstance(statement, n.Ask):
+            heard = [p for answer in statement.answers for p in answer.phrases]
+        if heard:
+            for phrase in heard:
                 if phrase not in listened and len(listened) == LIMITS.max_phrases:
                     most = LIMITS.max_phrases
                     _error(

@@ -1,4 +1,4 @@
-"""The builder's rules for reacting: `on`, `wait until`, `signal`, `forever` and `one of`.
+"""The builder's rules for reacting: `on`, `wait until`, `signal`, `forever`, `one of`, states and `ask`.
 
 A mixin of builder.py's `_Builder`, which gives it `_error`, `_pos`, `_seconds`, `_string`,
 `_body` and `hints`. The grammar reads an event and its options as plain words; what they mean
@@ -13,7 +13,16 @@ from lark import Token
 
 from . import syntax_tree as n
 from .diagnostics import one_of
-from .events import PLACES, POLICIES, in_words, option_words, read_event, written_zero
+from .events import (
+    PLACES,
+    POLICIES,
+    in_words,
+    not_a_phrase,
+    option_words,
+    phrase_of,
+    read_event,
+    written_zero,
+)
 
 
 class ReactionRules:
@@ -114,6 +123,63 @@ class ReactionRules:
     def go(self, children: List[Token]) -> n.Go:
         at, name = children
         return n.Go(str(name).lower(), pos=self._pos(at))
+
+    def ask(self, children: List[Any]) -> n.Ask:
+        at, string, *rest = children
+        text = self._string(string)
+        self._check_text(string, text)  # type: ignore[attr-defined]
+        said: Dict[str, Any] = {}
+        answers: List[n.Answer] = []
+        otherwise: Optional[Tuple[Any, ...]] = None
+        nothing: Optional[Tuple[float, Tuple[Any, ...]]] = None
+        for part in rest:
+            if isinstance(part, n.Answer):
+                answers.append(part)
+            elif part[0] in ("voice", "rate"):
+                kind, value, token = part
+                if kind in said:
+                    self._error(token, f"'ask' takes one '{kind}'")
+                said[kind] = value
+            elif part[0] in ("text", "language"):
+                self._error(part[2], f"'{part[0]}' is for a recording: say file \"NAME\" {part[0]} ...")
+            elif part[0] == "else":
+                if otherwise is not None:
+                    self._error(part[2], "'ask' takes one 'else'")
+                otherwise = part[1]
+            else:
+                if nothing is not None:
+                    self._error(part[2], "'ask' takes one 'nothing'")
+                nothing = part[1]
+        if not answers:
+            self._error(at, '\'ask\' needs an answer to listen for: ask "Ready?" { "yes" { happy } }')
+        question = n.Say(text or "", said.get("voice"), said.get("rate"), pos=self._pos(at))
+        return n.Ask(question, tuple(answers), otherwise, nothing, pos=self._pos(at))
+
+    def answer(self, children: List[Any]) -> n.Answer:
+        *strings, body = children
+        found: List[str] = []
+        for token in (t for t in strings if t.type == "STRING"):
+            text = self._string(token)
+            phrase = phrase_of(text) if text is not None else None
+            if phrase is None:
+                if text is not None:
+                    self._error(token, not_a_phrase("an answer is", text))
+            elif phrase not in found:
+                found.append(phrase)
+        return n.Answer(tuple(found), self._body(strings[0], "answer", body), pos=self._pos(strings[0]))
+
+    def otherwise(self, children: List[Any]) -> Tuple[str, Tuple[Any, ...], Token]:
+        at, body = children
+        return "else", self._body(at, "else", body), at
+
+    def nothing(self, children: List[Any]) -> Tuple[str, Tuple[float, Tuple[Any, ...]], Token]:
+        at, time, body = children
+        seconds = self._seconds(time, "a 'nothing' time")
+        if seconds <= 0 and not written_zero(time):
+            seconds = 0.0
+        elif seconds <= 0:
+            self._error(time, f"a 'nothing' time must be more than 0 s, not {time}")
+        return "nothing", (seconds, self._body(at, "nothing", body)), at
 
     def forever(self, children: List[Any]) -> n.Forever:
         at, body = children

@@ -259,7 +259,9 @@ def _describe_terminal(name: str) -> str:
 
 def _expected(names: Any) -> Tuple[str, List[str]]:
     """A phrase for what the parser wanted, and the keywords among it."""
-    names = set(names) - {"BAR"}  # a `one of`'s '|': the parser offers it after any block's statement
+    # A `one of`'s '|' and an `ask`'s answers (a string, `else`, `nothing`): the parser offers
+    # them after any block's statement, where they are seldom what was meant.
+    names = set(names) - {"BAR", "ELSE", "NOTHING"} - ({"STRING"} if "RBRACE" in names else set())
     if "LEGACY" in names:  # the start of a statement: too many to list
         rest = sorted(_describe_terminal(x) for x in names if x in ("RBRACE", "$END"))
         return " or ".join(["a command"] + rest), []

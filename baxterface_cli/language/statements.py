@@ -217,6 +217,7 @@ _SESSION = (
     Kind(n.OneOf, words=("one", "of"), in_words=lambda s: "one of"),
     Kind(n.State, words=("state",), in_words=lambda s: f"state {s.name}"),
     Kind(n.Go, words=("go",), in_words=lambda s: f"go {s.name}"),
+    Kind(n.Ask, words=("ask", "else", "nothing"), in_words=lambda s: f"ask {quoted(s.question.text)}"),
 )
 SESSION_KINDS: Dict[type, Kind] = {kind.node: kind for kind in _SESSION}
 

@@ -322,6 +322,34 @@ class Go(Statement):
 
 
 @dataclass(frozen=True)
+class Answer:
+    """One answer of an `ask`: the phrases that choose it, and what the face does then."""
+
+    phrases: Tuple[str, ...]
+    body: Tuple[Statement, ...]
+    pos: Pos = _pos()
+
+
+@dataclass(frozen=True)
+class Ask(Block):
+    """`ask "Shall we play?" { "yes" | "sure" { ... } else { ... } nothing 5s { ... } }`: say the
+    question, then listen from when it ends and run the first answer heard; `otherwise` (`else`)
+    for speech heard that is none of them, `nothing` (its seconds and body) when nobody spoke."""
+
+    question: Say
+    answers: Tuple[Answer, ...]
+    otherwise: Optional[Tuple[Statement, ...]] = None
+    nothing: Optional[Tuple[float, Tuple[Statement, ...]]] = None
+    pos: Pos = _pos()
+
+    @property
+    def body(self) -> Tuple[Statement, ...]:  # type: ignore[override]
+        """Every branch's statements, one after another: what the checks look through."""
+        branches = [a.body for a in self.answers] + [self.otherwise or ()]
+        return tuple(s for branch in branches for s in branch) + (self.nothing[1] if self.nothing else ())
+
+
+@dataclass(frozen=True)
 class WaitUntil(Statement):
     """`wait until face seen timeout 5s`: hold here until the event comes (or the timeout,
     None for none, passes)."""

@@ -29,7 +29,7 @@ def test_every_statement_node_has_a_kind_and_a_compile_step():
     # which it walks itself and never hands to the compiler (engine/session_program.py).
     assert nodes - {n.Statement, n.Block} == set(KINDS) | set(SESSION_KINDS)
     assert set(KINDS) == set(COMPILE_STEPS) and not set(KINDS) & set(SESSION_KINDS)
-    assert set(n.BLOCKS) == {n.Repeat, n.Together, n.Define, n.On, n.Forever, n.OneOf, n.State}
+    assert set(n.BLOCKS) == {n.Repeat, n.Together, n.Define, n.On, n.Forever, n.OneOf, n.State, n.Ask}
 
 
 def test_every_statement_can_be_written_and_its_words_are_the_grammars():
