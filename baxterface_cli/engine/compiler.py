@@ -117,6 +117,9 @@ class _Compiler:
     def do_define(self, s: n.Define, t: float) -> float:
         return t
 
+    def do_use(self, s: n.Use, t: float) -> float:  # its definitions were read when it was parsed
+        return t
+
     # -- the face
 
     def do_emotion(self, s: n.Emotion, t: float) -> float:

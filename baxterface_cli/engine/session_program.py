@@ -132,7 +132,7 @@ class Runner:
         return None
 
     def _step(self, s: Any) -> Optional[Step]:
-        if isinstance(s, (n.Define, n.On, n.State)):
+        if isinstance(s, (n.Define, n.On, n.State, n.Use)):
             return None
         if isinstance(s, n.WaitUntil):
             return Await(s)

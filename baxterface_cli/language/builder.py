@@ -333,6 +333,13 @@ class _Builder(ExpressionRules, SpeechRules, ReactionRules, Transformer):
         at, name, body = children
         return n.Define(str(name).lower(), self._body(at, "define", body), pos=self._pos(at))
 
+    def use(self, children: List[Token]) -> n.Use:
+        at, string = children
+        path = self._string(string)
+        if path is not None and not path.strip():
+            self._error(string, "'use' needs a file name: use \"my-gestures.face\"")
+        return n.Use(path or "", pos=self._pos(at))
+
     def _body(self, at: Token, what: str, body: Tuple[Any, ...]) -> Tuple[Any, ...]:
         if not body:
             self._error(at, f"empty block: '{what}' needs at least one statement")

@@ -6,7 +6,7 @@ tokens are; what needs the whole script happens here.
 
 from __future__ import annotations
 
-from typing import Any, Callable, Dict, Iterator, List, Optional, Sequence, Set, Tuple
+from typing import Any, Callable, Dict, Iterable, Iterator, List, Optional, Sequence, Set, Tuple
 
 from ..core.face_constants import LIMITS
 from . import syntax_tree as n
@@ -18,11 +18,11 @@ from .statements import KEYWORDS, statement_seconds
 from .vocabulary import BARE_WORDS, LEGACY_USAGE
 
 
-def check(body: Sequence[Any]) -> List[Diagnostic]:
-    """Every whole-script problem in `body`, as diagnostics."""
+def check(body: Sequence[Any], gestures: Iterable[str] = ()) -> List[Diagnostic]:
+    """Every whole-script problem in `body`, as diagnostics; `gestures` are offered as "did you mean"."""
     out: List[Diagnostic] = []
     definitions = _definitions(body, out)
-    _check_calls(body, definitions, out)
+    _check_calls(body, definitions, out, list(gestures))
     order = _call_order(definitions, out)
     if order is not None:
         _check_limits(body, definitions, order, out)
@@ -101,9 +101,11 @@ def _legacy_command(name: str) -> str:
     return ""
 
 
-def _check_calls(body: Sequence[Any], definitions: Dict[str, n.Define], out: List[Diagnostic]) -> None:
+def _check_calls(
+    body: Sequence[Any], definitions: Dict[str, n.Define], out: List[Diagnostic], gestures: List[str]
+) -> None:
     used: Set[str] = set()
-    known = list(BARE_WORDS) + list(KEYWORDS) + list(definitions)
+    known = list(BARE_WORDS) + list(KEYWORDS) + list(definitions) + gestures
     hints = Hints()
     for statement in walk(body):
         if not isinstance(statement, n.Call):

@@ -162,6 +162,7 @@ _ALL = (
     Kind(n.Repeat, words=("repeat",)),
     Kind(n.Together, words=("together",)),
     Kind(n.Define, words=("define",)),
+    Kind(n.Use, words=("use",), in_words=lambda s: f"use {quoted(s.path)}"),
     Kind(n.Say, _say_seconds, words=("say",), in_words=_say_words),
     Kind(
         n.Mood,

@@ -368,6 +368,14 @@ class Signal(Statement):
 
 
 @dataclass(frozen=True)
+class Use(Statement):
+    """`use "my-gestures.face"`: another file's `define`s, read when the script is parsed."""
+
+    path: str
+    pos: Pos = _pos()
+
+
+@dataclass(frozen=True)
 class Script:
     body: Tuple[Statement, ...]
     filename: str = field(default="<script>", compare=False)
