@@ -15,7 +15,7 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 import typer
 
 from .app import ROS_ARGS, app, main
-from .asset_commands import theme_check, theme_export, voices
+from .asset_commands import gestures, theme_check, theme_export, voices
 from .play_command import play
 from .ros_commands import buttons, node, send, stream
 from .screen_command import screen
@@ -27,7 +27,7 @@ for command in (render, explain, play):
     app.command()(command)
 for command in (node, buttons, send, stream, state):
     app.command(context_settings=ROS_ARGS)(command)
-for command in (check, studio, screen, voices):
+for command in (check, studio, screen, voices, gestures):
     app.command()(command)
 theme_app = typer.Typer(
     help="Themes: the face's layer images. Export the default one to edit, check your own.",

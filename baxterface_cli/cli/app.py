@@ -69,7 +69,7 @@ def script_from(path: Optional[str], inline: Optional[str], command: str, record
         if inline is not None:
             if path is not None:
                 raise fail(f"baxterface {command}: give a SCRIPT or -e TEXT, not both", 2)
-            script = parse(inline, "<-e>")
+            script = parse(inline, "<-e>", ".")  # its `use`s from the current folder
         elif path is None and sys.stdin.isatty():
             raise fail(
                 f"baxterface {command}: no script; give a FILE, '-' for standard input, or -e 'happy; blink'",

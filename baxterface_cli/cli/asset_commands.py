@@ -1,4 +1,4 @@
-"""The face's assets: `voices` and `theme export` / `theme check`."""
+"""The face's assets: `voices`, `gestures` and `theme export` / `theme check`."""
 
 from __future__ import annotations
 
@@ -28,6 +28,27 @@ def voices(
     width = max(len(name) for name, _ in found)
     for name, language in found:
         typer.echo(f"{name:<{width}}  {language}")
+
+
+def gestures(
+    name: Optional[str] = typer.Argument(
+        None, metavar="[NAME]", help="Print this gesture's definition, to copy and change."
+    ),
+) -> None:
+    """List the gestures every script may call by name (laugh, shake, ...): length, what each does."""
+    from ..language.parser import gestures as library
+
+    found = library()
+    if name is None:
+        width = max(len(g) for g in found)
+        for gesture in found.values():
+            typer.echo(f"{gesture.name:<{width}}  {gesture.seconds:4.1f} s  {gesture.about}")
+        return
+    gesture = found.get(name.lower())
+    if gesture is None:
+        raise fail(f"baxterface gestures: no gesture {name!r}; 'baxterface gestures' lists them")
+    typer.echo(f"# {gesture.about}")
+    typer.echo(gesture.text)
 
 
 def theme_export(

@@ -55,6 +55,7 @@ class Gesture:
     seconds: float
     about: str  # what it does in a few words: the comment above its `define`
     define: n.Define
+    text: str  # its `define` as the library writes it
 
 
 @functools.lru_cache(maxsize=1)
@@ -70,8 +71,20 @@ def gesture_library(read: Reader) -> Dict[str, Gesture]:
             above = lines[define.pos.line - 2] if define.pos.line >= 2 else ""
             about = re.sub(r"^#\s*", "", above.strip()) if above.strip().startswith("#") else ""
             called[define.name] = measure(define.body, called)
-            found[define.name] = Gesture(define.name, called[define.name][0], about, define)
+            text = "\n".join(_block_lines(lines, define.pos.line - 1))
+            found[define.name] = Gesture(define.name, called[define.name][0], about, define, text)
     return found
+
+
+def _block_lines(lines: List[str], start: int) -> List[str]:
+    """The lines of the `define` starting at `start` (0-based), to its closing brace."""
+    depth, out = 0, []
+    for line in lines[start:]:
+        out.append(line)
+        depth += line.count("{") - line.count("}")
+        if depth <= 0:
+            break
+    return out
 
 
 def borrowed(
@@ -144,7 +157,7 @@ def _read_used(use: n.Use, borrowing: Borrowing, read: Reader, out: List[Diagnos
     try:
         return read(real, written, inner)
     except ScriptError as e:
-        first = next(iter(e.diagnostics), None)
+        first = next((d for d in e.diagnostics if d.severity == "error"), None)
         where = f"{written}:{first.line}:{first.column}: {first.message}" if first else str(e)
         _error(out, use, f"cannot use {written!r}: it has errors: {where}")
     except OSError as e:
