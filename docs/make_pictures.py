@@ -271,6 +271,24 @@ def morph(script: str = "sad in 1.5s", frames: int = 6) -> Image.Image:
     )
 
 
+def gesture_sheet(frames: int = 6) -> Image.Image:
+    """Each of the face's gestures (`baxterface gestures`) at key frames across its length."""
+    from baxterface_cli.language.parser import gestures
+
+    renderer = Renderer(Theme.default().layers((1024, 600)))
+    rows = []
+    for name, gesture in gestures().items():
+        timeline = compile_script(parse(name), seed=0)
+        times = [gesture.seconds * (k + 0.5) / frames for k in range(frames)]
+        cells = []
+        for t in times:
+            rgb = np.ascontiguousarray(renderer.render(timeline.sample(t))[..., ::-1])
+            cells.append((f"{t:.1f} s", small(Image.fromarray(rgb))))
+        rows.append((name, cells))
+    columns = [f"{k + 1}/{frames}" for k in range(frames)]
+    return labelled_grid(rows, columns, column_title="each gesture through its length", label_w=100)
+
+
 LIPSYNC_TEXT = "Hello there, I am Baxter. Bob met Pam."
 MOUTH_BOX = (366, 432, 658, 590)  # every mouth of the default theme at 1024x600, with a margin
 WAVE = (70, 110, 170)
@@ -587,6 +605,7 @@ def main() -> None:
     save_sheet(intensities(), OUT / "intensities.png")
     save_sheet(mood_plane(), OUT / "mood.png")
     save_sheet(morph(), OUT / "morph.png")
+    save_sheet(gesture_sheet(), OUT / "gestures.png")
     crossfade().save(OUT / "crossfade.png", optimize=True)
     sonar_walk().save(OUT / "sonar-walk.png", optimize=True)
     save_sheet(face_following(), OUT / "face-following.png")
@@ -606,6 +625,7 @@ def main() -> None:
         "intensities.png",
         "mood.png",
         "morph.png",
+        "gestures.png",
         "crossfade.png",
         "sonar-walk.png",
         "face-following.png",

@@ -144,7 +144,7 @@ def test_without_ros_the_ros_commands_say_how_to_get_it(command):
 
 COMMANDS = [
     ["render"], ["explain"], ["play"], ["check"], ["node"], ["buttons"], ["send"], ["stream"], ["state"],
-    ["studio"], ["screen"], ["voices"], ["theme", "export"], ["theme", "check"],
+    ["studio"], ["screen"], ["voices"], ["gestures"], ["theme", "export"], ["theme", "check"],
 ]  # fmt: skip
 
 
