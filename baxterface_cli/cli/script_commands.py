@@ -200,7 +200,13 @@ def render(
         raise fail(f"baxterface render: stopped{done}; {out} not written", 130) from None
     if not quiet:  # a log or a pipe hears of it too, as a terminal does
         frames = f"{count} frame{'s' if count != 1 else ''}, " if fmt.frames else ""
-        typer.echo(f"wrote {out} ({frames}{animation.duration:.2f} s)", err=True)
+        if fmt.one_frame:  # a still says which moment it is, of how long a script
+            from ..export.render_to_file import frame_times as sampled
+
+            (still,) = sampled(fmt, animation, fps, at)
+            typer.echo(f"wrote {out} (1 frame, at {still:.2f} s of {animation.duration:.2f} s)", err=True)
+        else:
+            typer.echo(f"wrote {out} ({frames}{animation.duration:.2f} s)", err=True)
 
 
 def _written(

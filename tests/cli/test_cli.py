@@ -7,7 +7,7 @@ import os
 
 import pytest
 
-from conftest import baxterface
+from conftest import ROOT, baxterface
 
 pytestmark = pytest.mark.language
 
@@ -194,7 +194,6 @@ def test_a_bad_size_is_one_line_naming_the_option(command, tmp_path):
 
 
 def test_buttons_help_points_to_the_page_that_describes_the_mapping():
-    from conftest import ROOT
 
     said = " ".join(baxterface("buttons", "--help").out.split())
     assert 'see "The navigator buttons" in docs/following.md' in said
@@ -218,3 +217,12 @@ def test_a_number_that_is_not_finite_is_one_line_naming_the_option(command, opti
     assert run.code == 2
     assert run.err.splitlines()[-1] == f"Error: Invalid value for '{option}': {value} is not a finite number."
     assert not list(tmp_path.iterdir())
+
+
+def test_a_still_says_the_moment_it_shows_of_how_long_a_script(tmp_path):
+    # `render --at 2` said the script's length (5.10 s), as if the still were its end.
+    out = tmp_path / "at.png"
+    run = baxterface("render", str(ROOT / "scripts_examples" / "hello.face"), "--at", "2", "--out", str(out))
+    assert run.code == 0 and run.err == f"wrote {out} (1 frame, at 2.00 s of 5.10 s)\n"
+    run = baxterface("render", str(ROOT / "scripts_examples" / "hello.face"), "--at", "60", "--out", str(out))
+    assert run.err.splitlines()[-1] == f"wrote {out} (1 frame, at 5.10 s of 5.10 s)"  # its last frame
