@@ -12,7 +12,7 @@ Robot effects (head, nod, enable, follow, exit) fall due as time passes and are 
 from __future__ import annotations
 
 import random
-from typing import TYPE_CHECKING, List, Optional
+from typing import TYPE_CHECKING, Callable, List, Optional
 
 from ..core.face_constants import EMOTIONS
 from ..core.face_state import FaceState
@@ -59,6 +59,8 @@ class LiveFace:
         self.recordings = recordings
         self.idle_on = idle
         self._robot = StatusFold()
+        # Told of every timeline begun, with its start (a session's log file: session_log_file.py).
+        self.begun: Optional[Callable[[Timeline, float], None]] = None
         self.begin(compile_script(parse(""), start=start or FaceState()), now)
 
     # -- timelines
@@ -93,6 +95,8 @@ class LiveFace:
         # One assignment, so a reader on another thread (a frame loop, while the live session's
         # worker starts a step) sees the timeline, its start and its idle life together.
         self._playing = (timeline, now, idle)
+        if self.begun is not None:
+            self.begun(timeline, now)
 
     @property
     def idle(self) -> Optional[Idle]:

@@ -33,7 +33,7 @@ _SESSION = {
     "log", "segments", "cues", "exited", "ignored", "last_event", "_idle_fired", "_every",
     "_starts", "steps", "exited_at", "_kinds", "keep_up", "_behind", "_driving", "states",
 }  # fmt: skip
-_FACE = {"rng", "recordings", "idle_on", "_robot", "pending", "_playing"}
+_FACE = {"rng", "recordings", "idle_on", "_robot", "pending", "_playing", "begun"}
 _RUN = {"runner", "script", "label", "handler", "playing", "exiting", "waiting", "done", "carry"}
 _RUNNER = {"definitions", "rng", "frames", "again", "_holding"}
 
@@ -95,6 +95,7 @@ def _face(face: LiveFace) -> LiveFace:
     twin.rng = _random(face.rng)
     twin._robot = StatusFold(face._robot.status)
     twin.pending = list(face.pending)
+    twin.begun = None  # a copy's steps are not the face's: no log is told of them
     return twin
 
 

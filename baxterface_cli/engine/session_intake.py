@@ -40,6 +40,7 @@ from ..language.diagnostics import Diagnostic, ScriptError
 from ..language.parser import parse
 from ..speech.recordings import RecordingError
 from .live_session import LiveSession
+from .session_log_file import SessionLogFile
 from .session_records import LogKind
 
 # What a node's log shows of the session's: every event and drop stays in the session's log and
@@ -92,7 +93,10 @@ class SessionIntake(ClosedOnExit):
         max_queue: int = MAX_QUEUE,
         max_events: int = MAX_EVENTS,
         max_unread: int = MAX_UNREAD,
+        record: Optional[SessionLogFile] = None,
     ) -> None:
+        """`record`: the session's log file, told of each input as the worker takes it and of
+        the session's log lines as they come (never by the frame loop)."""
         self.session = session
         self.clock = clock
         self.ready = ready  # called after the worker changed something: wakes the frame loop
@@ -116,6 +120,10 @@ class SessionIntake(ClosedOnExit):
         self._cond = threading.Condition()
         self._closed = False
         self.busy = False
+        self.record = record
+        if record is not None:
+            record.logged = session.logged
+            record.watch(session.face)
         self._thread = threading.Thread(target=self._work, name="baxterface-session", daemon=True)
         self._thread.start()
 
@@ -187,6 +195,8 @@ class SessionIntake(ClosedOnExit):
             for item in [*self._takeovers, *self._texts, *self._events]:
                 if item[-1] is not None:
                     item[-1].cancel()
+        if self.record is not None:  # its last record: the shutdown
+            self.record.close(self.clock())
 
     def idle(self) -> bool:
         """Nothing waiting to be read or handed over, and the worker not busy."""
@@ -214,7 +224,10 @@ class SessionIntake(ClosedOnExit):
                     if item is None:
                         break
                     try:
+                        self._note(item)
                         self._do(item)
+                        if self.record is not None:
+                            self.record.follow(self.session)
                     finally:
                         with self._cond:
                             self._handled = item[2]
@@ -222,6 +235,8 @@ class SessionIntake(ClosedOnExit):
                 self.session.advance(self.clock())
                 self._start_queued()
                 self._forward_log()
+                if self.record is not None:
+                    self.record.follow(self.session)
                 self.counts = self.session.counts()
             except Exception as e:  # noqa: BLE001 - a bug in one step must not stop the face for good
                 self.log("error", f"the live session failed: {type(e).__name__}: {e}")
@@ -256,6 +271,19 @@ class SessionIntake(ClosedOnExit):
         if kind == "queue":
             return (kind, False) + self._texts.popleft()
         return (kind, False) + self._events.popleft()
+
+    def _note(self, item) -> None:
+        """The input, as it arrived, in the session's log file (if it has one)."""
+        if self.record is None:
+            return
+        if item[0] == "event":
+            _, _, _, event, at, source, _ = item
+            self.record.event(at, event, source)
+            return
+        kind, _, _, said, at, _ = item
+        text = said.source if isinstance(said, n.Script) else said
+        name = said.filename if isinstance(said, n.Script) else self.filename
+        self.record.script(at, text, name, kind == "queue")
 
     def _do(self, item) -> None:
         if item[0] == "event":
