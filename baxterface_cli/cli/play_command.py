@@ -38,6 +38,7 @@ from .events_option import (
     reacting_animation,
 )
 from .finite_numbers import finite
+from .log_option import LOG_OPT, LOG_SIZE_OPT, log_file
 
 
 def play(
@@ -65,6 +66,8 @@ def play(
     duration: Optional[float] = DURATION_OPT,
     listen: bool = LISTEN_OPT,
     barge_in: bool = BARGE_IN_OPT,
+    log: Optional[str] = LOG_OPT,
+    log_size: float = LOG_SIZE_OPT,
 ) -> None:
     """Play a script in real time: in a window, or in this terminal.
 
@@ -75,7 +78,7 @@ def play(
     --events FILE at their times, and the words it waits for heard in --hear FILE.wav; in a
     window, and with --listen, it runs live: a click on the
     face is a `touch` (with its place), a phrase heard from the microphone a `word`, until the
-    window closes, --duration passes or the face exits. Ctrl-C stops.
+    window closes, --duration passes or the face exits; --log FILE keeps its record. Ctrl-C stops.
     """
     from ..drawing.renderer import Renderer
     from ..engine.session_run import reactive
@@ -96,11 +99,16 @@ def play(
         window = why_not is None
     if window and why_not:
         raise fail(f"baxterface play: cannot open a window: {why_not}")
-    if listen or (window and reactive(script)):
+    if watch and log is not None:
+        raise fail("baxterface play: --log keeps a live session's record, which --watch is not", 2)
+    logged = log_file(log, log_size, "play", seed=seed, events=events, duration=duration)
+    if listen or (window and reactive(script)) or logged is not None:
         from .play_live import play_live
 
         given = events if heard is None else heard
-        play_live(script, given, window, fps, size, seed, theme, idle, crossfade, duration, listen, barge_in)
+        play_live(
+            script, given, window, fps, size, seed, theme, idle, crossfade, duration, listen, barge_in, logged
+        )
         return
     handlers_need_events(script, events or hear, "play")
     if not window and not sys.stdout.isatty():

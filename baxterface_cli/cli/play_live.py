@@ -13,6 +13,7 @@ from ..language import syntax_tree as n
 from ..language.diagnostics import ScriptError
 from .app import fail, fitted_theme, recordings_of
 from .events_option import phrases_wanted
+from .log_option import LogFile, open_log
 
 
 def play_live(
@@ -28,6 +29,7 @@ def play_live(
     duration: Optional[float],
     listen: bool,
     barge_in: bool,
+    logged: Optional[LogFile] = None,
 ) -> None:
     from ..drawing.renderer import Renderer
     from ..engine.live_session import LiveSession
@@ -60,15 +62,23 @@ def play_live(
         return open_device(lambda message: say(f"baxterface play: {message}"))
 
     with contextlib.ExitStack() as stack:
+        record = open_log(logged, 0.0, say)  # on the player's clock: the show starts at 0
+        players: List[Any] = []
+        if record is not None:  # the shutdown's record, at where the show came to
+            stack.callback(lambda: record.close(players[0].position if players else 0.0))
         try:
             session = LiveSession(
-                script,
+                None,
                 seed=seed,
                 idle=idle,
                 recordings=recordings_of(script),
                 crossfade=crossfade,
                 keep_up=True,
             )
+            if record is not None:  # the script as it starts, and what its first step says
+                record.watch(session.face)
+                record.script(0.0, script.source, script.filename)
+            session.run(script, 0.0)
         except MissingTool as e:
             raise fail(f"baxterface: {e}") from None
         except ScriptError as e:
@@ -80,7 +90,8 @@ def play_live(
             )
         screen = WindowScreen() if window else TerminalScreen()
         stack.callback(screen.close)
-        player = LivePlayer(session, renderer, screen, fps, trace, duration, sound=open_sound)
+        player = LivePlayer(session, renderer, screen, fps, trace, duration, sound=open_sound, record=record)
+        players.append(player)
         if listen:
             _listen(stack, player, words, barge_in)
         interrupted = False

@@ -26,6 +26,7 @@ from .app import (
 )
 from .events_option import BARGE_IN_OPT, DURATION_OPT, LISTEN_OPT, phrases_wanted
 from .finite_numbers import finite
+from .log_option import LOG_OPT, LOG_SIZE_OPT, log_file
 
 ROS_OPT = typer.Option(
     None,
@@ -357,6 +358,8 @@ def stream(
     barge_in: bool = BARGE_IN_OPT,
     ros: Optional[int] = ROS_OPT,
     ros_transport: Optional[str] = TRANSPORT_OPT,
+    log: Optional[str] = LOG_OPT,
+    log_size: float = LOG_SIZE_OPT,
 ) -> None:
     """Stream a script to the robot's screen in real time, no face node needed.
 
@@ -377,6 +380,7 @@ def stream(
         raise fail(f"baxterface stream: --robot must be {' or '.join(DISPLAY_TOPICS)}, not {robot!r}", 2)
     if audio is not None and audio not in SPEAKERS:
         raise fail(f"baxterface stream: --audio must be {AUDIO_CHOICES}, not {audio!r}", 2)
+    log_file(log, log_size, "stream")  # a bad size said before ROS starts
     script = script_from(script_path, inline, "stream")
     start_in_background()  # the speech process starts as the theme is fitted: no `say` waits for it
     renderer_layers = fitted_theme(theme, size, "stream")
@@ -388,10 +392,15 @@ def stream(
 
     options = dict(seed=seed, idle=idle, recordings=recordings_of(script), crossfade=crossfade)
     renderer = Renderer(renderer_layers)
-    _stream_live(script, renderer, robot, fps, ros_args, audio, version, duration, listen, barge_in, options)
+    logged = dict(log=os.path.abspath(log) if log else None, log_size=log_size)
+    _stream_live(
+        script, renderer, robot, fps, ros_args, audio, version, duration, listen, barge_in, options, logged
+    )
 
 
-def _stream_live(script, renderer, robot, fps, ros_args, audio, version, duration, listen, barge_in, options):
+def _stream_live(
+    script, renderer, robot, fps, ros_args, audio, version, duration, listen, barge_in, options, logged
+):
     from ..extras import MissingTool
     from ..ros.connect import RosUnavailable
     from ..ros.live_stream import Deaf, stream_live
@@ -399,7 +408,18 @@ def _stream_live(script, renderer, robot, fps, ros_args, audio, version, duratio
 
     try:
         ran = stream_live(
-            script, renderer, robot, fps, ros_args, audio, version, duration, listen, barge_in, options
+            script,
+            renderer,
+            robot,
+            fps,
+            ros_args,
+            audio,
+            version,
+            duration,
+            listen,
+            barge_in,
+            options,
+            **logged,
         )
     except UnknownAudio as e:
         raise fail(f"baxterface stream: {e}", 2) from None

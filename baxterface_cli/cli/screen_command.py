@@ -14,6 +14,7 @@ from ..extras import MissingTool
 from ..language.diagnostics import ScriptError
 from .app import IDLE_ON_OPT, RANDOM_SEED_OPT, THEME_OPT, echo_warnings, fail, fitted_theme, load_script
 from .finite_numbers import finite
+from .log_option import LOG_OPT, LOG_SIZE_OPT, log_file
 from .web_client import TOKEN_VARIABLE
 
 SHORTEST_TOKEN = 16
@@ -40,6 +41,8 @@ def screen(
     seed: Optional[int] = RANDOM_SEED_OPT,
     theme: Optional[str] = THEME_OPT,
     idle: bool = IDLE_ON_OPT,
+    log: Optional[str] = LOG_OPT,
+    log_size: float = LOG_SIZE_OPT,
 ) -> None:
     """Show the face alone on any screen with a browser: a tablet, a monitor, a kiosk.
 
@@ -56,6 +59,7 @@ def screen(
         need("uvicorn", "studio", "the screen")
     except MissingTool as e:
         raise fail(f"baxterface screen: {e}") from None
+    logged = log_file(log, log_size, "screen", seed=seed)
     script = None
     if script_path is not None:
         try:
@@ -74,7 +78,7 @@ def screen(
     renderer = Renderer(fitted_theme(theme, size, "screen"))
     renderer.prepare_in_background()
     try:
-        face = ScreenFace(script, seed, idle)
+        face = ScreenFace(script, seed, idle, log_file=logged)
     except MissingTool as e:  # `say` without a speech engine
         raise fail(f"baxterface screen: {e}") from None
     api = ScreenApi(face, renderer, fps, logger("screen"))
@@ -99,6 +103,7 @@ def screen(
     with listening:  # commands heard on ROS until the server stops
         served = api.app(token).serving("screen", host, sock.getsockname()[1])
         stopped_by = serve(served, sock, ready, stopping=api.stop_taking, log=api.log)
+    face.close()  # the session's log file, if any, ends with the shutdown
     typer.echo("baxterface screen: stopped", err=True)
     if stopped_by is not None:  # the shell's convention: 128 + the signal (130 for Ctrl-C)
         raise typer.Exit(128 + stopped_by)

@@ -32,7 +32,7 @@ from ..language.events import in_words
 
 VERSION = 1  # of the records' fields: a reader refuses a log of a later one
 DEFAULT_SIZE = 100 * 1024 * 1024  # bytes a file grows to before it is rotated
-LEAST_SIZE = 4096
+LEAST_MB = 0.01  # megabytes: a file of a few records
 KEPT = 4  # rotated files kept beside FILE: FILE.1 (the latest) to FILE.4
 UTC = datetime.timezone.utc
 MAX_WAITING = 10_000  # records waiting for the writer; a flood beyond is counted
@@ -42,8 +42,8 @@ Warn = Callable[[str], None]
 
 def log_size(megabytes: float) -> int:
     """`--log-size` in bytes; ValueError if it is not a size a log may have."""
-    if not megabytes * 1024 * 1024 >= LEAST_SIZE:  # also refuses nan
-        raise ValueError(f"must be at least {LEAST_SIZE / 1024 / 1024:g} MB, not {megabytes:g}")
+    if not megabytes >= LEAST_MB:  # also refuses nan
+        raise ValueError(f"must be at least {LEAST_MB:g} MB, not {megabytes:g}")
     return int(megabytes * 1024 * 1024)
 
 

@@ -19,6 +19,7 @@ from ..core.face_state import FaceState
 from ..drawing.renderer import Renderer
 from ..drawing.touch_places import touched_place
 from ..engine.live_session import LiveSession
+from ..engine.session_log_file import SessionLogFile
 from ..engine.speaking_times import SpeakingTimes
 from ..language import syntax_tree as n
 from ..speech.sound_device import SoundOut, SpeechCues
@@ -41,8 +42,14 @@ class LivePlayer:
         clock: Clock = time.monotonic,
         sleep: Callable[[float], None] = time.sleep,
         sound: Optional[Callable[[], SoundOut]] = None,
+        record: Optional[SessionLogFile] = None,
     ) -> None:
+        """`record`: the session's log file, told of each event and the session's lines as the
+        frames take them (it only queues them: its own thread writes)."""
         self.session = session
+        self.record = record
+        if record is not None:  # its lines from the first (a session made with its script has some)
+            record.watch(session.face)
         self.renderer = renderer
         self.screen = screen
         self.fps = fps
@@ -116,17 +123,24 @@ class LivePlayer:
     def _post_due(self, t: float) -> None:
         while self.trace and self.trace[0].at <= t:
             posted = self.trace.pop(0)
-            self.session.post(posted.event, posted.at, self.source(posted))
+            self._post(posted.event, posted.at, self.source(posted))
         while True:
             try:
                 event, at, source = self.inbox.get_nowait()
             except queue.Empty:
                 return
-            self.session.post(event, t if at is None else min(at, t), source)
+            self._post(event, t if at is None else min(at, t), source)
+
+    def _post(self, event: n.Event, at: float, source: str) -> None:
+        if self.record is not None:
+            self.record.event(at, event, source)
+        self.session.post(event, at, source)
 
     def _show(self, t: float) -> None:
         self.position = t
         state, _ = self.session.tick(t)
+        if self.record is not None:
+            self.record.follow(self.session)
         self._state = state
         self._follow_speech(t)
         face = self.session.face

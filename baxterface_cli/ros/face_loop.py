@@ -9,6 +9,7 @@ is doing on `~state` (JSON, latched). All work happens in the loop; callbacks on
 
 from __future__ import annotations
 
+import dataclasses
 import gc
 import json
 import math
@@ -25,6 +26,7 @@ from ..engine.effects import Speech
 from ..engine.live_session import LiveSession
 from ..engine.log_backlog import Backlog
 from ..engine.session_intake import SessionIntake
+from ..engine.session_log_file import SessionLogFile
 from .compressed import CompressedFrames
 from .images import image_fields
 from .link import STATE, Link
@@ -43,6 +45,15 @@ SWITCH_INTERVAL = 0.001
 FULL_COLLECTION_EVERY = 1000
 
 
+def _log_file(settings: NodeSettings, warn: Callable[[str], None], end: str) -> Optional[SessionLogFile]:
+    """The session's log file of the `log` setting, or None; it ends when the intake closes."""
+    if settings.log is None:
+        return None
+    kept = {k: v for k, v in dataclasses.asdict(settings).items() if k not in ("log", "log_size")}
+    size = int(settings.log_size * 1024 * 1024)
+    return SessionLogFile(settings.log, time.monotonic(), {"end": end, **kept}, warn, size)
+
+
 class FaceLoop:
     """`session` on the robot: its intake, the robot's senses, frames, speech and ~state."""
 
@@ -56,7 +67,9 @@ class FaceLoop:
         log: Backlog,
         state: bool = True,
         filename: str = "display_chatter",
+        end: str = "node",
     ) -> None:
+        """`end`: what runs it (node, stream), as its log file's first record says."""
         self.link = link
         self.session = session
         self.live = session.face  # read by the loop without the session's lock
@@ -73,7 +86,12 @@ class FaceLoop:
         for signum in (signal.SIGINT, signal.SIGTERM):
             signal.signal(signum, lambda *_: setattr(self, "stopping", True))
         self.intake = SessionIntake(
-            session, time.monotonic, ready=self.wake.set, log=self._logged, filename=filename
+            session,
+            time.monotonic,
+            ready=self.wake.set,
+            log=self._logged,
+            filename=filename,
+            record=_log_file(settings, log.warn, end),
         )
         self.saying: Optional[Tuple[str, float]] = None  # (text, when it ends) while the face speaks
         self.senses = RobotSenses(link, self.intake, settings, self._speak, log.warn, log.info)

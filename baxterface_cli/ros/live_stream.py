@@ -43,17 +43,27 @@ def stream_live(
     listen: bool = False,
     barge_in: bool = False,
     session_options: Optional[dict] = None,
+    log: Optional[str] = None,
+    log_size: float = 100.0,
 ) -> float:
     """Run `script` on the robot, reacting, until it is done (see the module's docstring); the
-    seconds it ran. `session_options` go to the LiveSession (seed, idle, recordings, crossfade)."""
+    seconds it ran. `session_options` go to the LiveSession (seed, idle, recordings, crossfade);
+    `log`, a file for the session's record, rotated past `log_size` MB."""
     settings = NodeSettings(
-        fps=fps, display_topic=DISPLAY_TOPICS[robot], listen="default" if listen else "", barge_in=barge_in
+        fps=fps,
+        display_topic=DISPLAY_TOPICS[robot],
+        listen="default" if listen else "",
+        barge_in=barge_in,
+        log=log,
+        log_size=log_size,
     )
     with open_link(version, "baxterface_stream", argv, anonymous=True, leaving="streamed") as link:
-        log = Backlog(link.log)
-        speaker = open_speaker(audio or default_audio(version), link, log.warn, "--audio")
+        backlog = Backlog(link.log)
+        speaker = open_speaker(audio or default_audio(version), link, backlog.warn, "--audio")
         session = LiveSession(now=time.monotonic(), keep_up=True, **(session_options or {}))
-        loop = FaceLoop(link, session, settings, renderer, speaker, log, filename=script.filename)
+        loop = FaceLoop(
+            link, session, settings, renderer, speaker, backlog, filename=script.filename, end="stream"
+        )
 
         def heard(msg: Any) -> None:  # display_chatter: the signals only
             if SIGNAL_ALONE.fullmatch(msg.data):
@@ -79,5 +89,5 @@ def stream_live(
         try:
             ended = loop.run(done, deaf if listen else None)
         finally:
-            log.close()
+            backlog.close()
     return ended - start

@@ -52,6 +52,9 @@ class NodeSettings:
     barge_in: bool = False
     # A script the node starts with (after its selftest), as `baxterface node SCRIPT` gives it.
     script: Optional[str] = None
+    # The session's log file (engine/session_log_file.py): None keeps none; rotated past log_size MB.
+    log: Optional[str] = None
+    log_size: float = 100.0
 
     @classmethod
     def read(cls, get: Callable[[str, Any], Any], defaults: Optional[NodeSettings] = None) -> NodeSettings:
@@ -76,6 +79,8 @@ class NodeSettings:
             listen=_listen(get, "listen", d.listen),
             barge_in=_flag(get, "barge_in", d.barge_in),
             script=_file(get, "script"),
+            log=_log(get, "log"),
+            log_size=_number(get, "log_size", d.log_size, 0.01, 1e6, " MB"),
         )
 
 
@@ -161,6 +166,17 @@ def _file(get, name: str) -> Optional[str]:
     path = os.path.abspath(os.path.expanduser(value))
     if not os.path.isfile(path):
         raise SettingError(name, f"must be a script file, not {value[:80]!r}")
+    return path
+
+
+def _log(get, name: str) -> Optional[str]:
+    """A file to write: a folder it is in (it need not be writable: that is a line in the log)."""
+    value = _text(get, name, "").strip()
+    if not value:
+        return None
+    path = os.path.abspath(os.path.expanduser(value))
+    if os.path.isdir(path) or not os.path.isdir(os.path.dirname(path)):
+        raise SettingError(name, f"must be a file in a folder that is there, not {value[:80]!r}")
     return path
 
 

@@ -25,11 +25,12 @@ import threading
 import time
 from collections import OrderedDict
 from concurrent.futures import Future
-from typing import Any, Callable, Dict, List, Optional
+from typing import Any, Callable, Dict, List, Optional, Tuple
 
 from ..core.face_state import FaceState
 from ..engine.live_session import LiveSession
 from ..engine.session_intake import SessionIntake
+from ..engine.session_log_file import SessionLogFile
 from ..engine.session_program import first_reacting
 from ..engine.timeline import Timeline
 from ..language import syntax_tree as n
@@ -52,7 +53,9 @@ class ScreenFace:
         seed: Optional[int] = None,
         idle: bool = True,
         clock: Callable[[], float] = time.monotonic,
+        log_file: Optional[Tuple[str, int, Dict[str, Any]]] = None,
     ) -> None:
+        """`log_file`: (its path, its size before it rotates, the settings) for the session's log."""
         self.clock = clock
         self.lock = threading.Lock()
         self.session = LiveSession(None, seed=seed, now=clock(), start=FaceState(), idle=idle, keep_up=True)
@@ -61,7 +64,13 @@ class ScreenFace:
         self.log: Callable[[str], None] = lambda text: None  # the server's log
         said = lambda _, text: self.log(text)  # noqa: E731 - (level, text): the server's log is one level
         woken = lambda: self.ready()  # noqa: E731 - set by the server after this
-        self.intake = SessionIntake(self.session, clock, ready=woken, log=said, filename="command")
+        self.record: Optional[SessionLogFile] = None
+        if log_file is not None:
+            path, size, settings = log_file
+            self.record = SessionLogFile(path, clock(), settings, lambda text: self.log(text), size)
+        self.intake = SessionIntake(
+            self.session, clock, ready=woken, log=said, filename="command", record=self.record
+        )
         self.name = script.filename if script is not None else None
         self.events = 0  # posted, whether a handler took them or not
         # Compiled now, so a script that cannot play (`say` without espeak-ng) stops the start; one
@@ -72,6 +81,7 @@ class ScreenFace:
             self._first_reacting = script
         elif script is not None:
             self._first = self.live.prepare(script, FaceState())
+        self._first_script = script
         self._sounds: OrderedDict[str, Utterance] = OrderedDict()
         self._heard: Optional[Timeline] = None  # the timeline whose sounds were kept last
 
@@ -86,6 +96,11 @@ class ScreenFace:
         self._first = self._first_reacting = None
         self.live.begin(timeline, now)
         self._keep_sounds()
+
+    def _recorded(self, script: Optional[Script], at: float) -> None:
+        """A script played whole, not through the intake, in the session's log file."""
+        if self.record is not None and script is not None:
+            self.record.script(at, script.source, script.filename)
 
     def _handed(self, done: Future) -> None:
         """The first script, handed over when the first page opened: a failure is logged."""
@@ -108,6 +123,7 @@ class ScreenFace:
         """A page shows the face: the script starts, if nothing has yet."""
         with self.lock:
             if self._first is not None:
+                self._recorded(self._first_script, self.clock())
                 self._begin(self._first, self.clock())
             elif self._first_reacting is not None:
                 script, self._first_reacting = self._first_reacting, None
@@ -125,6 +141,7 @@ class ScreenFace:
             timeline = self.live.take_over(script, now)
             with self.lock:
                 if self._plain(script):
+                    self._recorded(script, now)
                     self._begin(timeline, now)
                     return {"duration": round(timeline.duration, 3)}
         with self.lock:

@@ -133,3 +133,32 @@ def test_listen_without_a_word_to_hear_is_a_one_line_error():
 def test_barge_in_needs_listen():
     run = baxterface("play", "--terminal", "--barge-in", "-e", "happy")
     assert run.code == 2 and "--barge-in goes with --listen" in run.err
+
+
+def test_a_live_play_with_a_log_keeps_its_script_events_lines_and_end(tmp_path):
+    import json
+
+    from baxterface_cli.engine.session_log_file import SessionLogFile
+    from baxterface_cli.language.event_trace import parse_trace
+
+    text = "on button ok { happy }\nforever { wait 1s }"
+    path = tmp_path / "play.jsonl"
+    record = SessionLogFile(str(path), 0.0, {"end": "play"})
+    clock = FakeClock()
+    session = LiveSession(None, seed=0, idle=False)
+    record.watch(session.face)
+    record.script(0.0, text, "t.face")
+    session.run(parse(text, "t.face"), 0.0)
+    renderer = Renderer(Theme.default().layers((256, 150)))
+    trace = parse_trace("0.5 button ok", "t.events")
+    player = LivePlayer(
+        session, renderer, ClickingScreen(40), 30.0, trace, clock=clock, sleep=clock.sleep, record=record
+    )
+    player.run()
+    record.close(player.position)
+    got = [json.loads(line) for line in path.read_text().splitlines()]
+    assert [r["type"] for r in got][:2] == ["start", "script"]
+    (event,) = [r for r in got if r["type"] == "event"]
+    assert event == {"type": "event", "t": 0.5, "event": "button ok", "source": "t.events:1"}
+    assert [r["kind"] for r in got if r["type"] == "log"][:2] == ["event", "started"]
+    assert got[-1] == {"type": "end", "t": round(player.position, 4)}

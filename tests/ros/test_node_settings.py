@@ -89,3 +89,15 @@ def test_listen_is_off_the_default_device_or_a_recording(tmp_path):
     wav = tmp_path / "hello.wav"
     wav.write_bytes(b"RIFF")  # read when the node listens: a bad one is said then, in the log
     assert read(listen=str(wav)).listen == str(wav)
+
+
+def test_log_is_a_file_in_a_folder_that_is_there_and_log_size_megabytes(tmp_path):
+    assert (read().log, read().log_size) == (None, 100.0)
+    s = read(log=str(tmp_path / "face.jsonl"), log_size="5")
+    assert (s.log, s.log_size) == (str(tmp_path / "face.jsonl"), 5.0)
+    with pytest.raises(SettingError, match="~log must be a file in a folder that is there"):
+        read(log=str(tmp_path / "nowhere" / "face.jsonl"))
+    with pytest.raises(SettingError, match="~log must be a file"):
+        read(log=str(tmp_path))
+    with pytest.raises(SettingError, match="~log_size must be from"):
+        read(log_size="0")

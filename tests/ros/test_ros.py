@@ -527,6 +527,36 @@ def test_send_event_raises_an_event_at_the_node_as_the_robot_would(ros):
         assert proc.poll() is None
 
 
+def test_the_node_keeps_its_sessions_record_in_the_log_file_it_is_given(ros, tmp_path):
+    import json
+
+    from std_msgs.msg import String
+
+    path = tmp_path / "face.jsonl"
+    state = Topic("/baxter_face/state", String)
+    proc = start_node(ros, f"_log:={path}", "_log_size:=1")
+    try:
+        state.wait_for(timeout=30)
+        chatter("on button ok { happy }")
+        report(state, test=lambda r: len(r.get("handlers", {})) == 1)
+        run_ok(baxterface("send", "--event", "button ok", env=ros))
+        report(state, test=lambda r: runs(r, "line 1") == 1)
+    finally:
+        state.close()
+        proc.send_signal(signal.SIGTERM)
+        proc.wait(timeout=20)
+        forget_parameters(ros)
+    got = [json.loads(line) for line in path.read_text(encoding="utf-8").splitlines()]
+    assert got[0]["type"] == "start" and got[0]["settings"]["end"] == "node"
+    assert got[0]["settings"]["fps"] == 30.0
+    (script,) = [r for r in got if r["type"] == "script"]
+    assert script["text"] == "on button ok { happy }" and script["source"] == "display_chatter"
+    (event,) = [r for r in got if r["type"] == "event"]
+    assert event["event"] == "button ok" and event["source"] == "~event"
+    assert "started" in [r["kind"] for r in got if r["type"] == "log"]
+    assert got[-1]["type"] == "end"
+
+
 def run_ok(run) -> str:
     assert run.code == 0, run.err
     return run.out.strip()
@@ -680,6 +710,18 @@ def test_stream_sends_jpegs_to_a_viewer_of_the_compressed_topic(ros):
     assert last.format == "bgr8; jpeg compressed bgr8"
     assert Picture.open(io.BytesIO(last.data)).size == (1024, 600)
     jpegs.close()
+
+
+def test_stream_keeps_its_sessions_record_with_log(ros, tmp_path):
+    import json
+
+    path = tmp_path / "stream.jsonl"
+    proc = baxterface("stream", "--no-idle", "-e", "look 40 0 in 0.3s", "--log", str(path), env=ros)
+    assert proc.code == 0, proc.err
+    got = [json.loads(line) for line in path.read_text(encoding="utf-8").splitlines()]
+    assert got[0]["type"] == "start" and got[0]["settings"]["end"] == "stream"
+    assert [r["text"] for r in got if r["type"] == "script"] == ["look 40 0 in 0.3s"]
+    assert [r["kind"] for r in got if r["type"] == "log"] == ["ended"] and got[-1]["type"] == "end"
 
 
 def test_master_unreachable_names_ros_master_uri():

@@ -35,6 +35,8 @@ ARGUMENTS = [
     ("listen", "", "words for `on word`: default (the microphone), a WAV file's path, or empty: none"),
     ("barge_in", "false", "hear words while the face speaks"),
     ("script", "", "a script file the face plays once it is up, after its selftest; empty: none"),
+    ("log", "", "a file for the session's record (JSON Lines: docs/session-log.md); empty: none"),
+    ("log_size", "100", "megabytes the log grows to before it is rotated"),
     ("transport", "shm", "how frames reach this host's peers: shm (shared memory, UDP beside it) or default"),
 ]
 
