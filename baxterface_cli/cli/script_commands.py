@@ -33,6 +33,7 @@ from .app import (
 )
 from .events_option import DURATION_OPT, EVENTS_OPT, HEAR_OPT, reacting_animation
 from .finite_numbers import finite
+from .log_replay import is_log, log_animation
 
 if TYPE_CHECKING:  # imported where used: `check` needs neither drawing nor playing
     from ..drawing.renderer import Renderer
@@ -103,8 +104,13 @@ def explain(
     from ..engine.explanation import explained, frame_times
     from ..engine.timeline import state_record
 
-    script = script_from(script_path, inline, "explain")
-    animation, log = reacting_animation(script, events, seed, idle, crossfade, duration, "explain", hear)
+    if is_log(script_path):  # a session's log: its scripts and events run again
+        given = (inline, events, hear)
+        animation, log, replay = log_animation(script_path, seed, idle, crossfade, duration, "explain", given)
+        script = replay.script
+    else:
+        script = script_from(script_path, inline, "explain")
+        animation, log = reacting_animation(script, events, seed, idle, crossfade, duration, "explain", hear)
     timeline = animation.timeline
     if as_json:
         for t in frame_times(timeline.duration, fps):  # the frames `render` draws
@@ -184,8 +190,12 @@ def render(
         )
     drawn = [0, 0]  # frames drawn, frames in all: what Ctrl-C reports
     try:
-        script = script_from(script_path, inline, "render")
-        animation, _ = reacting_animation(script, events, seed, idle, crossfade, duration, "render", hear)
+        if is_log(script_path):  # a session's log: its scripts and events run again
+            given = (inline, events, hear)
+            animation, _, _ = log_animation(script_path, seed, idle, crossfade, duration, "render", given)
+        else:
+            script = script_from(script_path, inline, "render")
+            animation, _ = reacting_animation(script, events, seed, idle, crossfade, duration, "render", hear)
         say = lambda line: typer.echo(line, err=True)  # noqa: E731
         follow = following_from(follow_from, animation, "render", say, face_policy)
         if at is not None and at > animation.duration:

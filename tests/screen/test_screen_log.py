@@ -4,10 +4,12 @@ handlers and end, as JSON Lines, written as it goes."""
 from __future__ import annotations
 
 import json
+import re
 
 import pytest
 from test_web import pages
 
+from conftest import baxterface
 from studio_server import running_screen
 from waiting import eventually
 
@@ -60,3 +62,55 @@ def test_the_screens_log_has_its_start_scripts_events_handlers_and_end(logged):
     assert got[-1]["type"] == "end"
     times = [r["t"] for r in got]
     assert times == sorted(times)
+
+
+def explained_starts(out: str):
+    """(time, label) of each handler's start in `explain`'s lines."""
+    found = re.findall(r"^\s+(\d+\.\d\d) s\s+react (line \d+ '[^']+') runs$", out, re.M)
+    return [(float(t), label) for t, label in found]
+
+
+def test_explain_of_the_log_runs_the_same_handlers_at_the_same_times(logged):
+    _, path, got = logged
+    run = baxterface("explain", str(path))
+    assert run.code == 0, run.err
+    assert run.err == ""
+    first = next(r["t"] for r in got if r["type"] == "script")
+    live = [(r["t"] - first, r["text"][: -len(" runs")]) for r in got if r.get("kind") == "started"]
+    replayed = explained_starts(run.out)
+    assert [label for _, label in replayed] == [label for _, label in live]
+    assert all(abs(a - b) <= 0.01 for (a, _), (b, _) in zip(replayed, live))
+    assert "react signal poke: its handler replaced" in run.out
+    assert "react event touch mouth (POST /api/event)" in run.out
+    # It lasts as the session did, from its script's start to its end.
+    assert f": {got[-1]['t'] - first:.2f} s" in run.out.splitlines()[0]
+
+
+def test_render_of_the_log_makes_the_video_of_what_the_face_showed(logged):
+    folder, path, _ = logged
+    out = folder / "session.mp4"
+    run = baxterface("render", str(path), "--out", str(out), "--size", "256x150", "--fps", "10")
+    assert run.code == 0, run.err
+    assert out.stat().st_size > 0 and re.search(r"wrote .*session\.mp4 \(\d+ frames, \d+\.\d\d s\)", run.err)
+
+
+def test_a_log_cut_short_is_read_up_to_its_last_good_record_and_says_where(logged, tmp_path):
+    _, path, got = logged
+    lines = path.read_text(encoding="utf-8").splitlines()
+    cut = tmp_path / "cut.jsonl"
+    cut.write_text("\n".join(lines[:-3] + [lines[-3][:20]]) + "\n", encoding="utf-8")
+    run = baxterface("explain", str(cut))
+    assert run.code == 0, run.err
+    (said,) = run.err.splitlines()
+    assert said.startswith(f"baxterface explain: {cut}:{len(lines) - 2}: not a record (")
+    assert said.endswith("read up to the record before it")
+    newer = tmp_path / "newer.jsonl"
+    newer.write_text(
+        "\n".join([lines[0].replace('"version": 1', '"version": 2'), *lines[1:]]), encoding="utf-8"
+    )
+    run = baxterface("explain", str(newer))
+    assert run.code == 0 and "a log of version 2, newer than this baxterface's 1: read as 1" in run.err
+    none = tmp_path / "none.jsonl"
+    none.write_text(lines[0] + "\n", encoding="utf-8")
+    run = baxterface("explain", str(none))
+    assert run.code == 1 and run.err == f"baxterface explain: {none}: no script in it to replay\n"

@@ -1,0 +1,58 @@
+"""`render LOG.jsonl` and `explain LOG.jsonl`: a session's log (`--log`, the node's `log`) run
+again, its first script with its events and later scripts (engine/log_replay.py)."""
+
+from __future__ import annotations
+
+from typing import Any, List, Optional, Tuple
+
+import typer
+
+from ..language.diagnostics import ScriptError
+from .app import fail, recordings_of
+
+LOG_SUFFIXES = (".jsonl", ".jsonl.1", ".jsonl.2", ".jsonl.3", ".jsonl.4")
+
+
+def is_log(path: Optional[str]) -> bool:
+    """Is `path` a session's log rather than a script (by its name: FILE.jsonl, or a rotated one)?"""
+    return path is not None and path.lower().endswith(LOG_SUFFIXES)
+
+
+def log_animation(
+    path: str,
+    seed: Optional[int],
+    idle: bool,
+    crossfade: Optional[float],
+    duration: Optional[float],
+    command: str,
+    given: Tuple[Any, ...] = (),
+) -> Tuple[Any, List[Any], Any]:
+    """The animation of the log at `path` run again, the session's log lines, and the replay (its
+    first script and events); what the log says of itself is said on standard error. `given`:
+    --events, --hear or -e, which a log brings itself."""
+    from ..engine.animation import Animation
+    from ..engine.log_replay import LogError, read_log, run_log
+    from ..engine.session_run import NeverRests
+    from ..extras import MissingTool
+
+    if any(option is not None for option in given):
+        raise fail(
+            f"baxterface {command}: a session's log brings its own script and events: give it alone", 2
+        )
+    try:
+        replay = read_log(path)
+    except LogError as e:
+        raise fail(f"baxterface {command}: {e}") from None
+    for note in replay.notes:
+        typer.echo(f"baxterface {command}: {note}", err=True)
+    if replay.seed is not None:
+        seed = replay.seed  # the live session's: its `one of`s choose again as they chose
+    try:
+        run = run_log(replay, seed, duration, crossfade, recordings_of(replay.script))
+    except NeverRests as e:
+        raise fail(f"baxterface {command}: {e}", 2) from None
+    except MissingTool as e:
+        raise fail(f"baxterface: {e}") from None
+    except ScriptError as e:
+        raise fail(e.render()) from None
+    return Animation(run.timeline, idle=idle, seed=seed), run.log, replay  # type: ignore[arg-type]
