@@ -27,7 +27,7 @@ def log_animation(
     command: str,
     given: Tuple[Any, ...] = (),
 ) -> Tuple[Any, List[Any], Any]:
-    """The animation of the log at `path` run again, the session's log lines, and the replay (its
+    """The animation of the log at `path` run again, the run (its session's log lines), and the replay (its
     first script and events); what the log says of itself is said on standard error. `given`:
     --events, --hear or -e, which a log brings itself."""
     from ..engine.animation import Animation
@@ -55,4 +55,27 @@ def log_animation(
         raise fail(f"baxterface: {e}") from None
     except ScriptError as e:
         raise fail(e.render()) from None
-    return Animation(run.timeline, idle=idle, seed=seed), run.log, replay  # type: ignore[arg-type]
+    return Animation(run.timeline, idle=idle, seed=seed), run, replay  # type: ignore[arg-type]
+
+
+def annotated(path: Optional[str], out: str, seed: Optional[int], duration: Optional[float], given) -> None:
+    """`render LOG.jsonl --out FILE.eaf` (or .TextGrid): the replay's tiers written, one line said."""
+    from ..export.annotations import annotation_kind, tiers_of, write_annotations
+    from ..extras import MissingTool
+
+    kind = annotation_kind(out)
+    if not is_log(path):
+        raise fail(
+            f"baxterface render: an {kind} file is made of a session's log: render LOG.jsonl --out {out}", 2
+        )
+    animation, run, replay = log_animation(path, seed, False, None, duration, "render", given)
+    end = animation.duration
+    tiers = tiers_of(run, replay.trace, end)
+    try:
+        write_annotations(tiers, end, out)
+    except MissingTool as e:
+        raise fail(f"baxterface render: {e}") from None
+    except OSError as e:
+        raise fail(f"baxterface render: cannot write {out}: {e.strerror or e}") from None
+    counted = ", ".join(f"{len(tiers[name])} {name}" for name in tiers)
+    typer.echo(f"wrote {out} ({kind}: {counted}; {end:.2f} s)", err=True)

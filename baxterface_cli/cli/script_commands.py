@@ -33,7 +33,7 @@ from .app import (
 )
 from .events_option import DURATION_OPT, EVENTS_OPT, HEAR_OPT, reacting_animation
 from .finite_numbers import finite
-from .log_replay import is_log, log_animation
+from .log_replay import annotated, is_log, log_animation
 
 if TYPE_CHECKING:  # imported where used: `check` needs neither drawing nor playing
     from ..drawing.renderer import Renderer
@@ -106,8 +106,8 @@ def explain(
 
     if is_log(script_path):  # a session's log: its scripts and events run again
         given = (inline, events, hear)
-        animation, log, replay = log_animation(script_path, seed, idle, crossfade, duration, "explain", given)
-        script = replay.script
+        animation, run, replay = log_animation(script_path, seed, idle, crossfade, duration, "explain", given)
+        script, log = replay.script, run.log
     else:
         script = script_from(script_path, inline, "explain")
         animation, log = reacting_animation(script, events, seed, idle, crossfade, duration, "explain", hear)
@@ -171,10 +171,14 @@ def render(
     the same script, events and seed make the same frames.
     """
     from ..drawing.renderer import Renderer
+    from ..export.annotations import annotation_kind
     from ..export.registry import format_for
     from ..export.sink import FormatError
     from ..ros.effect_messages import DISPLAY_TOPICS
 
+    if annotation_kind(out):  # ELAN's or Praat's tiers of a session's log
+        annotated(script_path, out, seed, duration, (inline, events, hear))
+        return
     try:
         fmt = format_for(out)
     except FormatError as e:
