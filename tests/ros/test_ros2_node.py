@@ -315,8 +315,8 @@ def test_stream_sends_frames_in_real_time(face, ros2):
     screen.close()
 
 
-def test_settings_as_ros2_parameters_and_a_node_name_of_its_own(ros2):
-    """display_topic, fps and the node's name from --ros-args; `exit` ends it with status 0."""
+def test_settings_as_ros2_parameters_and_a_node_name_of_its_own(ros2, tmp_path):
+    """display_topic, fps, log and the node's name from --ros-args; `exit` ends it with status 0."""
     link = open_link(2, "pytest_face2", anonymous=True)
     state = Heard(link, "/face2/state", "std_msgs/String", latched=True, keep=lambda m: json.loads(m.data))
     screen = screen_of(link, "/screen/image")
@@ -335,6 +335,10 @@ def test_settings_as_ros2_parameters_and_a_node_name_of_its_own(ros2):
         "idle:=false",
         "-p",
         "size:=512x300",
+        "-p",
+        f"log:={tmp_path / 'face2.jsonl'}",
+        "-p",
+        "log_size:=1",
     )
     try:
         assert state.wait_for(timeout=60)["emotion"] == "sleep"
@@ -348,6 +352,12 @@ def test_settings_as_ros2_parameters_and_a_node_name_of_its_own(ros2):
         code, out = node.stop()
         link.close()
     assert "listening on /face2/commands" in out and "Traceback" not in out
+    got = [json.loads(line) for line in (tmp_path / "face2.jsonl").read_text(encoding="utf-8").splitlines()]
+    assert (
+        got[0]["type"] == "start" and got[0]["settings"]["end"] == "node" and got[0]["settings"]["fps"] == 15
+    )
+    assert [r["text"] for r in got if r["type"] == "script"] == ["sad", "exit"]
+    assert "exited" in [r["kind"] for r in got if r["type"] == "log"] and got[-1]["type"] == "end"
 
 
 @pytest.mark.parametrize(
