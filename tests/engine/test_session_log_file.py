@@ -135,3 +135,17 @@ def test_a_full_disk_is_one_line_and_the_session_goes_on(tmp_path):
     assert done.returncode == 0, done.stderr
     count, _, line = done.stdout.strip().partition(" ")
     assert count == "1" and "cannot be written" in line and "goes on without it" in line
+
+
+def test_a_say_at_the_intake_is_kept_with_its_text_and_length(tmp_path, engine):
+    path = tmp_path / "say.jsonl"
+    clock = time.monotonic
+    session = LiveSession(now=clock(), keep_up=True, idle=False)
+    intake = SessionIntake(session, clock, record=SessionLogFile(str(path), clock(), {}))
+    intake.submit('happy\nsay "hello there"')
+    wait_for(lambda: path.exists() and any(r["type"] == "say" for r in records(path)))
+    intake.close()
+    (said,) = [r for r in records(path) if r["type"] == "say"]
+    (script,) = [r for r in records(path) if r["type"] == "script"]
+    assert said["text"] == "hello there" and said["voice"] == "en" and 0.3 < said["length"] < 3
+    assert said["t"] >= script["t"]
