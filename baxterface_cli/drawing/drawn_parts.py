@@ -309,6 +309,7 @@ class DrawnParts:
         cuts = self._cuts(key)
         if not cuts:
             return prem, None
+        prem = prem.copy()  # the palette's is read-only
         inv = palette.inv[..., :1].astype(np.uint8)
         for (x0, y0, x1, y1), colour, clear in cuts:
             region = (slice(y0 - palette.y, y1 - palette.y), slice(x0 - palette.x, x1 - palette.x))

@@ -168,8 +168,20 @@ class _Canvas:
     def __init__(
         self, layers: ThemeLayers, parts: Parts, at: Pose, skin: TopStack, boxes: List[Rect]
     ) -> None:
-        w, h = layers.size
         self.frame = skin.prem.copy()
+        self._paint(layers, parts, at, skin, boxes)
+
+    def reskin(self, layers: ThemeLayers, parts: Parts, at: Pose, skin: TopStack, boxes: List[Rect]) -> None:
+        """Become `parts` on another skin, at `at`: drawn as a new canvas is, into this one's frame
+        (a morph changes its skin frame after frame; a new frame each time was a whole screen
+        allocated and written)."""
+        self.frame.flags.writeable = True
+        np.copyto(self.frame, skin.prem)
+        self._paint(layers, parts, at, skin, boxes)
+
+    def _paint(self, layers: ThemeLayers, parts: Parts, at: Pose, skin: TopStack, boxes: List[Rect]) -> None:
+        """Draw the sockets, the mouth and the brows of `parts` over the skin in the frame."""
+        w, h = layers.size
         self.skin = skin
         self.boxes = boxes
         self.parts = parts
@@ -359,8 +371,10 @@ class Renderer:
         """The drawn face between its presets: one canvas, changed where the parts changed
         (a morph moves the mouth, the brows or the skin a little, frame after frame)."""
         canvas = self._moving
-        if canvas is None or canvas.parts.skin != parts.skin:
+        if canvas is None:
             canvas = self._moving = _Canvas(self.layers, parts, at, *self._skin(parts.skin))
+        elif canvas.parts.skin != parts.skin:
+            canvas.reskin(self.layers, parts, at, *self._skin(parts.skin))
         elif canvas.parts != parts:
             canvas.repaint(self.layers, parts)
         return canvas

@@ -123,7 +123,8 @@ class SkinPalette:
 
     def stacked(self, tint: float, cheeks: float, sleepy: float) -> np.ndarray:
         """The mixed skin laid alone on nothing: its premultiplied colour, (h, w, 3) uint8,
-        what compositing the sprite gives (div255 of colour times alpha), without the sprite."""
+        what compositing the sprite gives (div255 of colour times alpha), without the sprite.
+        Read-only."""
         rows = div255(self.colours(tint, cheeks, sleepy)).astype(np.uint8)
         return _look_up_bytes(rows, self.index)
 
@@ -139,13 +140,14 @@ def _look_up(rows: np.ndarray, index: np.ndarray) -> np.ndarray:
 
 def _look_up_bytes(rows: np.ndarray, index: np.ndarray) -> np.ndarray:
     """`_look_up` for uint8 rows: numpy picks 4-byte words several times faster than 3-byte
-    items, so each row is padded to a word, picked, and Pillow drops the padding."""
+    items, so each row is padded to a word, picked, and Pillow drops the padding as it packs
+    the pixels. Read-only: the packed bytes, not copied again."""
     words = np.zeros((len(rows), 4), np.uint8)
     words[:, :3] = rows
     picked = np.take(words.view(np.uint32).ravel(), index, mode="clip")  # index is in range
     h, w = index.shape
-    image = Image.frombuffer("RGBX", (w, h), picked, "raw", "RGBX", 0, 1).convert("RGB")
-    return np.array(image)  # a copy of its own: the caller cuts sockets into it
+    packed = Image.frombuffer("RGBX", (w, h), picked, "raw", "RGBX", 0, 1).tobytes("raw", "RGB")
+    return np.frombuffer(packed, np.uint8).reshape(h, w, 3)
 
 
 def _distinct_rows(table: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
