@@ -134,16 +134,16 @@ def build_palette(frames_rgb: Iterable[np.ndarray], colours: int = 255) -> np.nd
 
 
 def palette_lookup(palette: np.ndarray) -> np.ndarray:
-    """A table from 5-bit B, G, R to the nearest palette index (the first of equals)."""
+    """A table from 5-bit B, G, R to the nearest palette index."""
     levels = (np.arange(1 << LUT_BITS) << (8 - LUT_BITS)) + (1 << (7 - LUT_BITS))
     b, g, r = np.meshgrid(levels, levels, levels, indexing="ij")
     cube = np.stack([r.ravel(), g.ravel(), b.ravel()], axis=1).astype(np.int32)
-    colours = palette.astype(np.int32)
-    best = np.empty(len(cube), np.uint8)
-    for start in range(0, len(cube), 2048):  # every colour against a slice of the cube at once
-        part = cube[start : start + 2048]
-        d = ((part[:, None, :] - colours[None, :, :]) ** 2).sum(axis=2)
-        best[start : start + 2048] = d.argmin(axis=1)
+    best = np.zeros(len(cube), np.uint8)
+    best_d = np.full(len(cube), np.iinfo(np.int32).max, np.int64)
+    for i, colour in enumerate(palette.astype(np.int32)):
+        d = ((cube - colour) ** 2).sum(axis=1)
+        closer = d < best_d
+        best[closer], best_d[closer] = i, d[closer]
     side = 1 << LUT_BITS
     return best.reshape(side, side, side)
 
