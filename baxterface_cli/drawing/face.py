@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 import random
+import sys
 from pathlib import Path
 from typing import List, Mapping, Optional, Tuple, Union
 
@@ -73,6 +74,10 @@ class Face:
         check_size(self.size)
         self._renderer = Renderer(self.theme.layers(self.size))
         self.state = FaceState()
+        self._kept: Optional[np.ndarray] = None  # the last frame given, and the render it is
+        self._kept_at = -1
+        probe = np.empty(0)
+        self._alone = sys.getrefcount(probe)  # the count of an array held by one name only
 
     # -- moving
 
@@ -176,8 +181,26 @@ class Face:
     # -- drawing
 
     def frame(self) -> np.ndarray:
-        """The current face as a new (h, w, 3) uint8 array, bytes in B, G, R order."""
-        return self._renderer.render(self.state).copy()
+        """The current face as an (h, w, 3) uint8 array, bytes in B, G, R order: read-only, and
+        yours: the face never changes it while you hold it (`frame().copy()` to draw on it).
+
+        The array of the frame before is used again once nothing holds it, and then only what
+        changed since is copied into it, not the whole screen."""
+        renderer = self._renderer
+        drawn = renderer.render(self.state)
+        kept, self._kept = self._kept, None
+        if kept is None or sys.getrefcount(kept) > self._alone or kept.flags.writeable:
+            kept = drawn.copy()  # the one before is still held (or was made writable): a new one
+        else:
+            kept.flags.writeable = True
+            if renderer.changed is None or renderer.renders != self._kept_at + 1:
+                np.copyto(kept, drawn)
+            else:
+                for x0, y0, x1, y1 in renderer.changed:
+                    kept[y0:y1, x0:x1] = drawn[y0:y1, x0:x1]
+        kept.flags.writeable = False
+        self._kept, self._kept_at = kept, renderer.renders
+        return kept
 
     def frame_rgb(self) -> np.ndarray:
         """The current face as a new (h, w, 3) uint8 array in R, G, B order."""

@@ -196,9 +196,9 @@ class _Canvas:
         self.frame.flags.writeable = False
         self.at = at
 
-    def repaint(self, layers: ThemeLayers, parts: Parts) -> None:
+    def repaint(self, layers: ThemeLayers, parts: Parts) -> List[Rect]:
         """Become `parts`, whose skin is this canvas's: redraw where the old or the new mouth
-        and brows reach, and the sockets' stacks they touch."""
+        and brows reach, and the sockets' stacks they touch; returns where the frame changed."""
         screen = (0, 0) + layers.size
         rects = []
         for book, old, new in (
@@ -225,6 +225,7 @@ class _Canvas:
                 bottom_stack(layers, self.at, rect),
             )
         self.frame.flags.writeable = False
+        return rects
 
 
 def _finish_into(frame: np.ndarray, rect: Rect, top: TopStack, under: np.ndarray) -> None:
@@ -255,7 +256,11 @@ class Renderer:
     """Turns face states into frames, redrawing only what moved.
 
     `render` returns a read-only view of a buffer the renderer reuses: it is
-    valid until the next call. Copy it (`frame.copy()`) to keep it.
+    valid until the next call. Copy it (`frame.copy()`) to keep it. After a
+    render, `changed` says where its frame differs from the one the render
+    before returned, when both are the same buffer: rectangles outside which no
+    pixel changed ([] for none); None where that is not known (another buffer,
+    or the whole screen). `renders` counts the renders.
     """
 
     def __init__(self, layers: ThemeLayers) -> None:
@@ -265,6 +270,10 @@ class Renderer:
         self._mix: Optional[np.ndarray] = None
         self._moving: Optional[_Canvas] = None  # the drawn face between its presets
         self._sockets: OrderedDict[Any, List[Rect]] = OrderedDict()  # by the eyes' sizes
+        self.renders = 0
+        self.changed: Optional[List[Rect]] = None
+        self._dirty: Optional[List[Rect]] = None  # where this render has drawn, as it goes
+        self._last: Optional[np.ndarray] = None  # what the render before returned
 
     @property
     def size(self) -> Tuple[int, int]:
@@ -302,6 +311,14 @@ class Renderer:
         )
 
     def render(self, state: FaceState) -> np.ndarray:
+        self._dirty = []
+        frame = self._render(state)
+        self.changed = self._dirty if frame is self._last else None
+        self._last, self._dirty = frame, None
+        self.renders += 1
+        return frame
+
+    def _render(self, state: FaceState) -> np.ndarray:
         at = pose(self.layers, state)
         if self.layers.drawn is not None:
             return self._draw(self.layers.drawn.keys(expression_of(state)), at)
@@ -315,6 +332,7 @@ class Renderer:
             self._mix = np.empty_like(new)
         mix = self._mix
         mix.flags.writeable = True
+        self._dirty = None  # the mix is drawn anew, whatever its canvases redrew
         if state.fade_from.skin == state.skin:
             # Same skin, same pose: the frames differ only where a mouth or
             # brows of either side reach; elsewhere the blend is the frame.
@@ -375,8 +393,9 @@ class Renderer:
             canvas = self._moving = _Canvas(self.layers, parts, at, *self._skin(parts.skin))
         elif canvas.parts.skin != parts.skin:
             canvas.reskin(self.layers, parts, at, *self._skin(parts.skin))
+            self._dirty = None  # every pixel
         elif canvas.parts != parts:
-            canvas.repaint(self.layers, parts)
+            self._drew(canvas.repaint(self.layers, parts))
         return canvas
 
     def _draw(self, parts: Parts, at: Pose) -> np.ndarray:
@@ -388,9 +407,14 @@ class Renderer:
                     hit = intersect(rect, box)
                     if hit is not None:
                         self._redraw(canvas, hit, box, top, at)
+                        self._drew([hit])
             canvas.frame.flags.writeable = False
             canvas.at = at
         return canvas.frame
+
+    def _drew(self, rects: List[Rect]) -> None:
+        if self._dirty is not None:
+            self._dirty.extend(rects)
 
     def _changed(self, old: Pose, new: Pose) -> List[Rect]:
         """Rectangles outside which a move from `old` to `new` changes no pixel."""

@@ -140,14 +140,55 @@ def test_equal_states_give_equal_frames():
     assert np.array_equal(a.frame(), b.frame())
 
 
-def test_frame_is_a_copy_the_caller_owns():
+def test_frame_is_the_callers_and_read_only():
     face = Face()  # its own: the module's shared face may have been left with its eyes shut
     first = face.frame()
     face.look_at(-60, 0)
     second = face.frame()
     assert not np.array_equal(first, second)
-    first[:] = 0  # the caller may scribble on it
-    assert np.array_equal(face.frame(), second)
+    with pytest.raises(ValueError):
+        first[:] = 0  # read-only: a copy is the caller's to scribble on
+    scribbled = first.copy()
+    scribbled[:] = 0
+    face.look_at(60, 0)
+    third = face.frame()
+    assert not np.array_equal(second, third)
+    face.look_at(-60, 0)
+    assert np.array_equal(face.frame(), second)  # a frame held is never changed
+    assert np.array_equal(second, compose(face._renderer.layers, face.state))
+
+
+def frames_dropped_at_once(face: Face, steps) -> None:
+    """Each step changes the face; each frame is checked against the plain recomposite, then
+    dropped, so the next one reuses its array and copies in only what changed."""
+    layers = face._renderer.layers
+    for step in steps:
+        step(face)
+        assert np.array_equal(face.frame(), compose(layers, face.state)), step
+
+
+def test_a_dropped_frame_reused_draws_every_change_right():
+    face = Face(size=(512, 300))
+    start = face.expression
+    end = start._replace(mouth_curve=-1.0, brow_left_height=0.8)
+    steps = [lambda f, x=x: f.look_at(x, -x / 2) for x in range(-60, 61, 7)]
+    steps += [lambda f, o=o: f.set_eyelids(o) for o in (0.8, 0.3, 0.0, 0.6, 1.0)]
+    steps += [lambda f, k=k: f.set_expression(start.mix(end, k / 6)) for k in range(7)]
+    steps += [lambda f, e=e: f.set_emotion(e, variant=0) for e in ("happy", "sad", "angry", "sleep")]
+    steps += [lambda f, v=v: f.set_mood(v, -v / 2) for v in (-0.9, -0.3, 0.4, 0.9)]
+    steps += [lambda f: f.wink("left"), lambda f: f.wink(None), lambda f: f.look_at(0, 0)]
+    steps += [lambda f: None, lambda f: f.frame_rgb(), lambda f: f.look_at(20, 20)]  # a render between
+    frames_dropped_at_once(face, steps)
+
+
+def test_a_frame_made_writable_and_scribbled_on_is_not_reused_as_it_is():
+    face = Face(size=(512, 300))
+    frame = face.frame()
+    frame.flags.writeable = True  # numpy allows it on an array that owns its memory
+    frame[:] = 0
+    del frame
+    face.look_at(30, 0)
+    assert np.array_equal(face.frame(), compose(face._renderer.layers, face.state))
 
 
 def test_bad_part_names_and_values_are_refused_clearly(face):

@@ -70,6 +70,20 @@ def test_cached_frames_equal_full_recomposites_full_size(run):
         assert np.array_equal(renderer.render(state), compose(layers, state)), state
 
 
+@settings(max_examples=40, deadline=None, suppress_health_check=list(HealthCheck))
+@given(animations())
+def test_changed_says_where_the_frame_changed(small_layers, run):
+    renderer = Renderer(small_layers)
+    kept = renderer.render(run[0]).copy()
+    for state in run[1:]:
+        frame = renderer.render(state)
+        if renderer.changed is None:
+            kept = frame.copy()
+        for x0, y0, x1, y1 in renderer.changed or []:
+            kept[y0:y1, x0:x1] = frame[y0:y1, x0:x1]
+        assert np.array_equal(kept, frame), state
+
+
 def test_a_blink_redraws_only_inside_the_sockets():
     layers = Theme.default().layers((1024, 600))
     renderer = Renderer(layers)
