@@ -134,18 +134,19 @@ def build_palette(frames_rgb: Iterable[np.ndarray], colours: int = 255) -> np.nd
 
 
 def palette_lookup(palette: np.ndarray) -> np.ndarray:
-    """A table from 5-bit B, G, R to the nearest palette index."""
+    """A table from 5-bit B, G, R to the nearest palette index (the first of equals).
+
+    The cube is a grid, so a distance is three per-channel squares added: each colour's
+    squares per level are worked out once and added across the grid."""
     levels = (np.arange(1 << LUT_BITS) << (8 - LUT_BITS)) + (1 << (7 - LUT_BITS))
-    b, g, r = np.meshgrid(levels, levels, levels, indexing="ij")
-    cube = np.stack([r.ravel(), g.ravel(), b.ravel()], axis=1).astype(np.int32)
-    best = np.zeros(len(cube), np.uint8)
-    best_d = np.full(len(cube), np.iinfo(np.int32).max, np.int64)
-    for i, colour in enumerate(palette.astype(np.int32)):
-        d = ((cube - colour) ** 2).sum(axis=1)
-        closer = d < best_d
-        best[closer], best_d[closer] = i, d[closer]
     side = 1 << LUT_BITS
-    return best.reshape(side, side, side)
+    colours = palette.astype(np.int32)
+    if len(colours) == 0:
+        return np.zeros((side, side, side), np.uint8)
+    squares = (levels.astype(np.int32)[None, None, :] - colours[:, :, None]) ** 2  # colour, R G B, level
+    distance = squares[:, 2, :, None, None] + squares[:, 1, None, :, None]  # colour, B, G, R
+    distance = distance + squares[:, 0, None, None, :]
+    return distance.argmin(axis=0).astype(np.uint8)
 
 
 def changed_box(a: np.ndarray, b: np.ndarray) -> Optional[Tuple[int, int, int, int]]:
