@@ -186,6 +186,7 @@ class _Canvas:
         self.boxes = boxes
         self.parts = parts
         self.tops = [top_stack(layers, parts, box, skin) for box in boxes]
+        self._showing: List[Optional[np.ndarray]] = [None] * len(boxes)
         for box, top in zip(boxes, self.tops):
             _finish_into(self.frame, box, top, bottom_stack(layers, at, box))
         for sprite in (layers.mouths[parts.mouth], layers.brows[parts.brows]):
@@ -217,6 +218,7 @@ class _Canvas:
         for i, box in enumerate(self.boxes):
             if any(intersect(rect, box) is not None for rect in rects):
                 self.tops[i] = top_stack(layers, parts, box, self.skin)
+                self._showing[i] = None
         for rect in rects:
             _finish_into(
                 self.frame,
@@ -226,6 +228,20 @@ class _Canvas:
             )
         self.frame.flags.writeable = False
         return rects
+
+    def clear(self, i: int, rect: Rect) -> bool:
+        """Whether socket i's top stack is wholly see-through over `rect` (inside its box):
+        there a frame is the bottom stack as it is (div255(under * 255) + 0 is under)."""
+        table = self._showing[i]
+        if table is None:  # a summed-area table of the pixels where the top stack shows
+            top = self.tops[i]
+            shows = (top.inv != 255).any(axis=2) | (top.prem != 0).any(axis=2)
+            table = np.zeros((shows.shape[0] + 1, shows.shape[1] + 1), np.int32)
+            np.cumsum(np.cumsum(shows, axis=0, dtype=np.int32), axis=1, out=table[1:, 1:])
+            self._showing[i] = table
+        box = self.boxes[i]
+        a0, b0, a1, b1 = rect[0] - box[0], rect[1] - box[1], rect[2] - box[0], rect[3] - box[1]
+        return int(table[b1, a1] - table[b0, a1] - table[b1, a0] + table[b0, a0]) == 0
 
 
 def _finish_into(frame: np.ndarray, rect: Rect, top: TopStack, under: np.ndarray) -> None:
@@ -403,10 +419,10 @@ class Renderer:
         if canvas.at != at:
             canvas.frame.flags.writeable = True
             for rect in self._changed(canvas.at, at):
-                for box, top in zip(canvas.boxes, canvas.tops):
+                for i, (box, top) in enumerate(zip(canvas.boxes, canvas.tops)):
                     hit = intersect(rect, box)
                     if hit is not None:
-                        self._redraw(canvas, hit, box, top, at)
+                        self._redraw(canvas, hit, box, top, at, canvas.clear(i, hit))
                         self._drew([hit])
             canvas.frame.flags.writeable = False
             canvas.at = at
@@ -437,8 +453,13 @@ class Renderer:
                 rects += _slid(before, lid, band, was, now)
         return rects
 
-    def _redraw(self, canvas: _Canvas, rect: Rect, box: Rect, top: TopStack, at: Pose) -> None:
+    def _redraw(
+        self, canvas: _Canvas, rect: Rect, box: Rect, top: TopStack, at: Pose, clear: bool = False
+    ) -> None:
         x0, y0, x1, y1 = rect
-        inside = (slice(y0 - box[1], y1 - box[1]), slice(x0 - box[0], x1 - box[0]))
         under = bottom_stack(self.layers, at, rect)
+        if clear:  # nothing of the top stack over it: the bottom stack is the frame
+            np.copyto(canvas.frame[y0:y1, x0:x1], under, casting="unsafe")
+            return
+        inside = (slice(y0 - box[1], y1 - box[1]), slice(x0 - box[0], x1 - box[0]))
         finish(top.prem[inside], top.inv[inside], under, out=canvas.frame[y0:y1, x0:x1])
