@@ -5,8 +5,9 @@
 The baseline is how the original node drew every frame: copy the background
 and PIL-paste the five other full-screen RGBA layers onto it (eyes and lids
 at their offsets), then hand the image over as a numpy array. Each figure is
-the best of three timed runs; ratios are against the baseline measured here,
-at the same size, in this same run.
+the best of three timed runs, the baseline's and baxterface's taken in turn;
+ratios are against the baseline measured here, at the same size, in this same
+run.
 
 "eyes move, through Face" is a look as a program makes it with the Python API:
 `face.look_at(x, y)` then `face.frame()`, the frame let go before the next
@@ -94,15 +95,21 @@ def through_face(face: Face) -> Callable[[FaceState], np.ndarray]:
     return draw
 
 
-def fps(render: Callable[[FaceState], np.ndarray], states: List[FaceState], runs: int = 3) -> float:
-    render(states[0])  # warm up: first-use costs are measured separately
-    best = math.inf
+def fps(
+    renders: Dict[str, Callable[[FaceState], np.ndarray]], states: List[FaceState], runs: int = 3
+) -> Dict[str, float]:
+    """Frames per second of each way of drawing, the best of `runs` runs, taken in turn (one run
+    of each, then again), so that a shared machine's load falls on all of them alike."""
+    for render in renders.values():
+        render(states[0])  # warm up: first-use costs are measured separately
+    best = dict.fromkeys(renders, math.inf)
     for _ in range(runs):
-        start = time.perf_counter()
-        for state in states:
-            render(state)
-        best = min(best, time.perf_counter() - start)
-    return len(states) / best
+        for name, render in renders.items():
+            start = time.perf_counter()
+            for state in states:
+                render(state)
+            best[name] = min(best[name], time.perf_counter() - start)
+    return {name: len(states) / seconds for name, seconds in best.items()}
 
 
 def main() -> None:
@@ -128,16 +135,17 @@ def main() -> None:
             scenarios["crossfade, same skin"] = crossfading(smile, grin, args.frames)
             scenarios["crossfade, skin changes"] = crossfading(smile, angry, args.frames // 3)
         for name, states in scenarios.items():
-            base = fps(original.render, states)
-            renderer = Renderer(theme.layers(size))
-            ours = fps(renderer.render, states)
-            copied = fps(lambda s, r=renderer: r.render(s).copy(), states)
-            rows.append((label, name, base, ours))
-            rows.append((label, name + ", frame copied", base, copied))
+            renderer, copier = Renderer(theme.layers(size)), Renderer(theme.layers(size))
+            ways = {
+                "original": original.render,
+                "": renderer.render,
+                ", frame copied": lambda s, r=copier: r.render(s).copy(),
+            }
             if name == "eyes move":
-                rows.append(
-                    (label, name + ", through Face", base, fps(through_face(Face(theme, size)), states))
-                )
+                ways[", through Face"] = through_face(Face(theme, size))
+            measured = fps(ways, states)
+            base = measured.pop("original")
+            rows += [(label, name + way, base, figure) for way, figure in measured.items()]
     # First use of a part combination (a cold cache): the top stack is built.
     layers = theme.layers((1024, 600))
     start = time.perf_counter()
