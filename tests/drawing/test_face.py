@@ -15,7 +15,7 @@ from baxterface_cli import Face, FaceState
 from baxterface_cli.core.face_constants import EMOTIONS
 from baxterface_cli.core.geometry import clamp_to_ellipse
 from baxterface_cli.drawing.artwork import EYE_DX, EYE_Y, draw_theme
-from baxterface_cli.drawing.renderer import compose
+from baxterface_cli.drawing.stacks import compose
 from baxterface_cli.resources import resource
 from conftest import ROOT
 

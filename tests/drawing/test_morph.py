@@ -12,7 +12,8 @@ from baxterface_cli.core.face_constants import BROWS, EMOTIONS, MOUTHS
 from baxterface_cli.core.face_state import FaceState, Parts
 from baxterface_cli.core.presets import BROW_PRESETS, MOUTH_PRESETS, emotion_preset, from_parts
 from baxterface_cli.drawing.drawn_parts import STEPS
-from baxterface_cli.drawing.renderer import Renderer, compose
+from baxterface_cli.drawing.renderer import Renderer
+from baxterface_cli.drawing.stacks import compose
 from baxterface_cli.drawing.theme import Theme
 
 SMALL = (256, 150)

@@ -9,7 +9,8 @@ from hypothesis import strategies as st
 
 from baxterface_cli import FaceState, Parts
 from baxterface_cli.core.face_constants import BROWS, MOUTHS, SKINS
-from baxterface_cli.drawing.renderer import PARTS_KEPT, Renderer, compose
+from baxterface_cli.drawing.renderer import PARTS_KEPT, Renderer
+from baxterface_cli.drawing.stacks import compose
 from baxterface_cli.drawing.theme import Theme
 
 parts = st.builds(Parts, st.sampled_from(list(SKINS)), st.sampled_from(MOUTHS), st.sampled_from(BROWS))

@@ -12,7 +12,8 @@ from baxterface_cli import Face, parse
 from baxterface_cli.core.face_constants import MOUTHS, VISEMES, viseme_mouth
 from baxterface_cli.core.face_state import FaceState, Parts
 from baxterface_cli.drawing import artwork, mouth_drawing
-from baxterface_cli.drawing.renderer import Renderer, compose
+from baxterface_cli.drawing.renderer import Renderer
+from baxterface_cli.drawing.stacks import compose
 from baxterface_cli.drawing.theme import OPTIONAL, Theme
 from baxterface_cli.language.diagnostics import ScriptError
 from conftest import baxterface

@@ -23,7 +23,8 @@ from PIL import Image
 from baxterface_cli import ThemeError
 from baxterface_cli.core.face_state import FaceState
 from baxterface_cli.drawing import artwork
-from baxterface_cli.drawing.renderer import Renderer, compose
+from baxterface_cli.drawing.renderer import Renderer
+from baxterface_cli.drawing.stacks import compose
 from baxterface_cli.drawing.theme import Theme
 
 # One worker runs the module, so the base theme is made once, not once a worker.

@@ -10,7 +10,8 @@ from baxterface_cli import Face, parse
 from baxterface_cli.core.face_constants import EMOTIONS
 from baxterface_cli.core.face_state import FaceState, Parts
 from baxterface_cli.core.presets import from_parts
-from baxterface_cli.drawing.renderer import Renderer, compose, crossfade
+from baxterface_cli.drawing.renderer import Renderer
+from baxterface_cli.drawing.stacks import compose, crossfade
 from baxterface_cli.drawing.theme import Theme
 from baxterface_cli.engine.compiler import compile_script
 from baxterface_cli.engine.explanation import explained

@@ -8,7 +8,7 @@ import pytest
 from baxterface_cli import ScriptError, parse
 from baxterface_cli.core.face_constants import EMOTIONS
 from baxterface_cli.core.presets import DEFAULT_FACE
-from baxterface_cli.drawing.renderer import compose
+from baxterface_cli.drawing.stacks import compose
 from baxterface_cli.drawing.theme import Theme
 from baxterface_cli.engine.compiler import compile_script
 from baxterface_cli.language import syntax_tree as n
