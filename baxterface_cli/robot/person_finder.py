@@ -244,8 +244,8 @@ class FaceFollower:
 
     def _sweep(self, grey: Any, t: float) -> None:
         job = self._next_job()
-        if job is None:
-            return
+        if job is None or len(self.people) >= self.PEOPLE and all(p.found_now for p in self.people):
+            return  # all it could find is people found already: the job's turn passes all the same
         for box in self.detector.sweep(grey, job):
             # A person tracking lost may have moved on or changed size more than tracking allows.
             known = [
