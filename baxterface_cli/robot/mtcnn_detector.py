@@ -193,7 +193,7 @@ class Networks:
             interpolation=self.cv2.INTER_AREA if shrink < LINEAR_FROM else self.cv2.INTER_LINEAR,
         )
         sx, sy = w / width, shrunk.shape[0] / (y1 - y0)  # the band's own scales (rounding)
-        self.pnet.setInput(_blob(shrunk))
+        self.pnet.setInput(_blob(shrunk[None]))
         regression, scores = self.pnet.forward(["conv2d_4", "softmax"])
         score = scores[0, :, :, 1].T  # the networks take images transposed (width first)
         rows_, cols = np.nonzero(score >= self.PROPOSE)
@@ -237,7 +237,7 @@ class Networks:
 
         if len(boxes) == 0:
             return boxes
-        net.setInput(np.concatenate([_blob(_cut(self.cv2, image, box, side)) for box in boxes]))
+        net.setInput(_blob(np.stack([_cut(self.cv2, image, box, side) for box in boxes])))
         regression, scores = net.forward(outputs)
         keep = scores[:, 1] >= threshold
         boxes, reg = boxes[keep].copy(), regression[keep]
@@ -323,7 +323,7 @@ class Networks:
             for half in (box.size / 2.0, 1.15 * box.size / 2.0)
         ]
         crops.append(crops[0][:, ::-1])
-        self.onet.setInput(np.concatenate([_blob(crop) for crop in crops]))
+        self.onet.setInput(_blob(np.stack(crops)))
         scores = self.onet.forward(["dense_5", "softmax_2"])[1][:, 1]
         if min(scores) >= self.STRICT_LEAST and float(np.mean(scores)) >= self.CONFIRM:
             return SURE
@@ -353,11 +353,14 @@ class Networks:
 
 
 def _blob(pixels: Any) -> Any:
-    """A BGR uint8 image as the networks take it: RGB, (v - 127.5) / 128, transposed, batch of one."""
+    """A batch of BGR uint8 images (NxHxWx3) as the networks take them: RGB, (v - 127.5) / 128,
+    transposed (NxWxHx3), in one pass over them all."""
     import numpy as np
 
-    rgb = pixels[:, :, ::-1].astype(np.float32)
-    return ((rgb - 127.5) * 0.0078125).transpose(1, 0, 2)[None]
+    blob = np.ascontiguousarray(pixels[:, :, :, ::-1].transpose(0, 2, 1, 3), np.float32)
+    blob -= 127.5
+    blob *= 0.0078125
+    return blob
 
 
 def _cut(cv2: Any, image: Any, box: Any, side: int) -> Any:
