@@ -227,8 +227,9 @@ class Cascades:
 
     # -- sweep: the whole image, a job at a time ---------------------------------------------------
 
-    def sweep(self, grey: Any, job: Job) -> List[Box]:
-        """The faces the find cascade sees in `job`'s slice of the image (unchecked).
+    def sweep(self, grey: Any, job: Job, known: Sequence[Box] = ()) -> List[Box]:
+        """The faces the find cascade sees in `job`'s slice of the image (unchecked), the faces
+        `known` among them (the networks' `sweep` leaves them out; a cascade costs the same).
 
         Every window that finds a face, at every size of the job, is kept, and the
         windows are grouped as OpenCV's own multi-scale search groups them: a face

