@@ -380,6 +380,8 @@ def _cut(cv2: Any, image: Any, box: Any, side: int) -> Any:
     height, width = image.shape[:2]
     x0, y0 = int(box[0]), int(box[1])
     x1, y1 = max(x0 + 1, int(box[2]) + 1), max(y0 + 1, int(box[3]) + 1)
+    if x0 >= 0 and y0 >= 0 and x1 <= width and y1 <= height:  # inside: the image's own pixels
+        return cv2.resize(image[y0:y1, x0:x1], (side, side), interpolation=cv2.INTER_AREA)
     patch = np.zeros((y1 - y0, x1 - x0, 3), np.uint8)
     ix0, iy0, ix1, iy1 = max(0, x0), max(0, y0), min(width, x1), min(height, y1)
     if ix1 > ix0 and iy1 > iy0:
