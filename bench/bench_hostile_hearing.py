@@ -190,6 +190,7 @@ def texts(folder: Path) -> None:
 def says(folder: Path) -> None:
     import gc
 
+    from baxterface_cli import parse
     from baxterface_cli.engine.effects import Speech
     from baxterface_cli.engine.live_face import sleep_face
     from baxterface_cli.engine.live_session import LiveSession
@@ -218,7 +219,7 @@ def says(folder: Path) -> None:
         now, marks = 0.0, {}
         for said in range(1, 151):
             text = f"Command number {said if new else 0} is a sentence of some seconds said now."
-            session.submit(f'say "{text}"', now)
+            session.run(parse(f'say "{text}"', "command"), now)
             for k in range(16):
                 for cue in session.tick(now + 0.05 + k * 0.2)[1]:
                     if isinstance(cue.effect, Speech):

@@ -407,7 +407,7 @@ def test_a_live_face_keeps_no_more_speech_after_150_new_says_than_after_20(engin
     gc.collect()
     kept, now, spoken = {0: sum(type(o) is Utterance for o in gc.get_objects())}, 0.0, 0  # other tests'
     for said in range(1, 151):
-        session.submit(f'say "Command number {said} is a sentence never said before."', now)
+        session.run(parse(f'say "Command number {said} is a sentence never said before."', "command"), now)
         for at in (now + 0.05, now + 3.0):  # the speech starts, and ends
             spoken += sum(
                 speaker.speak(c.effect) is None for c in session.tick(at)[1] if isinstance(c.effect, Speech)
