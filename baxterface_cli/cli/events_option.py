@@ -4,7 +4,7 @@ that reacts, run by the live session over an events file and the words heard in 
 
 from __future__ import annotations
 
-from typing import Any, List, Optional, Tuple
+from typing import Any, Callable, List, Optional, Tuple, TypeVar
 
 import typer
 
@@ -13,6 +13,8 @@ from ..language.diagnostics import ScriptError
 from ..language.syntax_tree import Script
 from .app import animation_for, fail, recordings_of
 from .finite_numbers import finite
+
+T = TypeVar("T")
 
 EVENTS_OPT = typer.Option(
     None,
@@ -58,8 +60,7 @@ def reacting_animation(
     no events): the script compiled as always, or run by the session over `events` and the words
     heard in `hear` (or over `heard`, the two already read by `events_trace`)."""
     from ..engine.animation import Animation
-    from ..engine.session_run import NeverRests, reactive, run_over
-    from ..extras import MissingTool
+    from ..engine.session_run import reactive, run_over
 
     if events is None and hear is None and not reactive(script):
         if duration is not None:
@@ -68,15 +69,23 @@ def reacting_animation(
             )
         return animation_for(script, seed, idle, crossfade), []
     trace = heard if heard is not None else events_trace(script, events, hear, command)
+    run = ran(command, lambda: run_over(script, trace, seed, duration, crossfade, recordings_of(script)))
+    return Animation(run.timeline, idle=idle, seed=seed), run.log  # type: ignore[arg-type]
+
+
+def ran(command: str, run: Callable[[], T]) -> T:
+    """`run()`, a recorded run of a session: each way it fails is one line naming `command`."""
+    from ..engine.session_run import NeverRests
+    from ..extras import MissingTool
+
     try:
-        run = run_over(script, trace, seed, duration, crossfade, recordings_of(script))
+        return run()
     except NeverRests as e:
         raise fail(f"baxterface {command}: {e}", 2) from None
     except MissingTool as e:
         raise fail(f"baxterface: {e}") from None
     except ScriptError as e:
         raise fail(e.render()) from None
-    return Animation(run.timeline, idle=idle, seed=seed), run.log  # type: ignore[arg-type]
 
 
 def events_trace(script: Script, events: Optional[str], hear: Optional[str], command: str) -> Any:

@@ -7,8 +7,8 @@ from typing import Any, List, Optional, Tuple
 
 import typer
 
-from ..language.diagnostics import ScriptError
 from .app import fail, recordings_of
+from .events_option import ran
 
 LOG_SUFFIXES = (".jsonl", ".jsonl.1", ".jsonl.2", ".jsonl.3", ".jsonl.4")
 
@@ -32,8 +32,6 @@ def log_animation(
     --events, --hear or -e, which a log brings itself."""
     from ..engine.animation import Animation
     from ..engine.log_replay import LogError, read_log, run_log
-    from ..engine.session_run import NeverRests
-    from ..extras import MissingTool
 
     if any(option is not None for option in given):
         raise fail(
@@ -47,14 +45,8 @@ def log_animation(
         typer.echo(f"baxterface {command}: {note}", err=True)
     if replay.seed is not None:
         seed = replay.seed  # the live session's: its `one of`s choose again as they chose
-    try:
-        run = run_log(replay, seed, duration, crossfade, recordings_of(replay.script))
-    except NeverRests as e:
-        raise fail(f"baxterface {command}: {e}", 2) from None
-    except MissingTool as e:
-        raise fail(f"baxterface: {e}") from None
-    except ScriptError as e:
-        raise fail(e.render()) from None
+    chosen = seed
+    run = ran(command, lambda: run_log(replay, chosen, duration, crossfade, recordings_of(replay.script)))
     return Animation(run.timeline, idle=idle, seed=seed), run, replay  # type: ignore[arg-type]
 
 

@@ -27,6 +27,7 @@ from .app import (
 from .events_option import BARGE_IN_OPT, DURATION_OPT, LISTEN_OPT, phrases_wanted
 from .finite_numbers import finite
 from .log_option import LOG_OPT, LOG_SIZE_OPT, log_file
+from .web_client import TOKEN_OPT, url_option
 
 ROS_OPT = typer.Option(
     None,
@@ -221,15 +222,8 @@ def send(
         help="Raise an event instead, as an events file writes it without its time: 'button ok', "
         "'word \"hello\"', 'touch left eye'.",
     ),
-    url: Optional[str] = typer.Option(
-        None,
-        "--url",
-        metavar="URL",
-        help="With --event: a running screen or studio, as it printed its address.",
-    ),
-    token: Optional[str] = typer.Option(
-        None, "--token", metavar="TOKEN", help="With --url: the token of a screen or studio off loopback."
-    ),
+    url: Optional[str] = url_option("With --event: a running screen or studio, as it printed its address."),
+    token: Optional[str] = TOKEN_OPT,
     ros: Optional[int] = ROS_OPT,
     ros_transport: Optional[str] = TRANSPORT_OPT,
 ) -> None:

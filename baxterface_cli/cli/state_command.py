@@ -18,27 +18,18 @@ from .ros_commands import (
     ros_ready,
     split_ros_args,
 )
-from .web_client import TOKEN_VARIABLE, call
+from .web_client import TOKEN_OPT, call, url_option
 
 STATE_TOPIC = "/baxter_face/state"  # the face node's ~state
 
 
 def state(
     ctx: typer.Context,
-    url: Optional[str] = typer.Option(
-        None,
-        "--url",
-        metavar="URL",
-        help="A running screen or studio, as it printed its address (http://127.0.0.1:8081/, with "
-        "its ?token= if it has one), instead of a face node on ROS.",
+    url: Optional[str] = url_option(
+        "A running screen or studio, as it printed its address (http://127.0.0.1:8081/, with "
+        "its ?token= if it has one), instead of a face node on ROS."
     ),
-    token: Optional[str] = typer.Option(
-        None,
-        "--token",
-        metavar="TOKEN",
-        help="The token of a screen or studio served off loopback (default: the URL's, else "
-        f"{TOKEN_VARIABLE}).",
-    ),
+    token: Optional[str] = TOKEN_OPT,
     as_json: bool = typer.Option(False, "--json", help="Print the state as JSON, as it came."),
     topic: str = typer.Option(
         STATE_TOPIC, "--topic", metavar="TOPIC", help="The face node's state topic, on ROS."

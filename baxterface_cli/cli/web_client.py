@@ -10,10 +10,25 @@ import os
 from typing import Any, Dict, Optional
 from urllib.parse import parse_qs, urlsplit
 
+import typer
+
 from .app import fail
 
 LARGEST_ANSWER = 8 * 1024 * 1024  # bytes: a studio's state carries its script (at most 256 KiB) and more
 TOKEN_VARIABLE = "BAXTERFACE_TOKEN"  # as the screen and the studio read it (cli/screen_command.py)
+
+
+def url_option(help: str) -> Any:
+    return typer.Option(None, "--url", metavar="URL", help=help)
+
+
+# The token, as `state` and `send` take it.
+TOKEN_OPT = typer.Option(
+    None,
+    "--token",
+    metavar="TOKEN",
+    help=f"The token of a screen or studio served off loopback (default: the URL's, else {TOKEN_VARIABLE}).",
+)
 
 
 def call(

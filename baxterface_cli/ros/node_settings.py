@@ -150,22 +150,21 @@ def _text(get, name: str, default: str) -> str:
 
 
 def _folder(get, name: str) -> Optional[str]:
-    value = _text(get, name, "")
-    if not value:
-        return None
-    path = os.path.abspath(os.path.expanduser(value))
-    if not os.path.isdir(path):
-        raise SettingError(name, f"must be a folder, not {value[:80]!r}")
-    return path
+    return _path(get, name, os.path.isdir, "a folder")
 
 
 def _file(get, name: str) -> Optional[str]:
+    return _path(get, name, os.path.isfile, "a script file")
+
+
+def _path(get, name: str, there: Callable[[str], bool], what: str) -> Optional[str]:
+    """The setting's absolute path, if given; it must be `what` (`there` says whether it is)."""
     value = _text(get, name, "").strip()
     if not value:
         return None
     path = os.path.abspath(os.path.expanduser(value))
-    if not os.path.isfile(path):
-        raise SettingError(name, f"must be a script file, not {value[:80]!r}")
+    if not there(path):
+        raise SettingError(name, f"must be {what}, not {value[:80]!r}")
     return path
 
 

@@ -3,12 +3,11 @@ where it is written."""
 
 from __future__ import annotations
 
-import pytest
+from diagnosed import errors
 
 from baxterface_cli import parse
 from baxterface_cli.language import syntax_tree as n
 from baxterface_cli.language.checker import phrases_listened
-from baxterface_cli.language.diagnostics import ScriptError
 
 ASK = """\
 ask "Shall we play a game?" rate 150 {
@@ -18,12 +17,6 @@ ask "Shall we play a game?" rate 150 {
     nothing 5s { say "Never mind." }
 }
 """
-
-
-def errors(text: str) -> list:
-    with pytest.raises(ScriptError) as caught:
-        parse(text, "t.face")
-    return [d.head("t.face") for d in caught.value.diagnostics]
 
 
 def test_an_ask_holds_its_question_its_answers_else_and_nothing():

@@ -5,22 +5,13 @@ Each mistake is named where it is written, with the message a user reads (checke
 from __future__ import annotations
 
 import pytest
+from diagnosed import errors, warnings
 
 from baxterface_cli import parse
 from baxterface_cli.language import syntax_tree as n
 from baxterface_cli.language.diagnostics import ScriptError
 from baxterface_cli.language.event_trace import parse_trace
 from baxterface_cli.language.events import matches
-
-
-def errors(text: str) -> list:
-    with pytest.raises(ScriptError) as caught:
-        parse(text, "t.face")
-    return [d.head("t.face") for d in caught.value.diagnostics]
-
-
-def warnings(text: str) -> list:
-    return [d.head("t.face") for d in parse(text, "t.face").warnings]
 
 
 def test_a_handler_with_its_event_policy_and_cooldown():

@@ -3,11 +3,10 @@ mistake named where it is written, with the message a user reads."""
 
 from __future__ import annotations
 
-import pytest
+from diagnosed import errors, warnings
 
 from baxterface_cli import parse
 from baxterface_cli.language import syntax_tree as n
-from baxterface_cli.language.diagnostics import ScriptError
 
 GREETER = """\
 state asleep {
@@ -21,16 +20,6 @@ state awake {
 on signal back { go back }
 go asleep
 """
-
-
-def errors(text: str) -> list:
-    with pytest.raises(ScriptError) as caught:
-        parse(text, "t.face")
-    return [d.head("t.face") for d in caught.value.diagnostics]
-
-
-def warnings(text: str) -> list:
-    return [d.head("t.face") for d in parse(text, "t.face").warnings]
 
 
 def test_a_state_holds_its_body_and_its_own_handlers_and_go_names_it():
