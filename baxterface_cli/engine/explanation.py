@@ -64,4 +64,10 @@ def explained(timeline: Any, grouped: bool = False, session: Sequence[Tuple[floa
             for word in said.utterance.words:
                 add(said.at + word.at, said.at + word.at, step, _WORD, f"word  {word.text}")
     by_group = lambda r: (_GROUPS[r[2]], r[0], r[1], r[3])  # noqa: E731
-    return [row[4] for row in sorted(rows, key=by_group if grouped else None)]
+    lines, last_face = [], None
+    for row in sorted(rows, key=by_group if grouped else None):
+        if row[2] == _FACE and row[4] == last_face:
+            continue  # the face one step left, which the next begins from: said once
+        last_face = row[4] if row[2] == _FACE else last_face
+        lines.append(row[4])
+    return lines

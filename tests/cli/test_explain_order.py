@@ -41,3 +41,14 @@ def test_the_face_a_handler_arrives_at_reads_before_the_handler_ends(tmp_path):
     ]
     grouped = baxterface("explain", "h.face", "--events", "h.events", "--grouped", cwd=tmp_path).out
     assert grouped.splitlines()[1].split()[-3:] == ["line", "1", "happy"]  # --grouped: statements first
+
+
+def test_the_face_a_step_leaves_and_the_next_begins_from_is_said_once(tmp_path):
+    # A newcomer saw `2.80 s face skin 3, ...` twice: once as `wake up` left it, once as `happy`
+    # began from it.
+    (tmp_path / "w.face").write_text("on touch { wake up; happy }\n")
+    (tmp_path / "w.events").write_text("2 touch\n")
+    run = baxterface("explain", "w.face", "--events", "w.events", cwd=tmp_path)
+    assert run.code == 0, run.err
+    faces = [line for line in at(run.out.splitlines(), "2.80") if line.startswith("face")]
+    assert faces == ["face  skin 3, mouth smile, brows normal"]
