@@ -211,19 +211,21 @@ class LiveSession:
                     found.append((at, 1, lambda run=run: self._woken(run, self.clock)))
         tick = self._every.first()
         if tick is not None:
-            found.append((tick[0], 2, lambda: self._fire(n.Event("every", seconds=tick[1]))))
-        for seconds in {h.on.event.seconds for h in self._kinds.get("idle", ()) if self.states.live(h.state)}:
-            idle = n.Event("idle", seconds=seconds)
-            if seconds not in self._idle_fired:
-                found.append((self.last_event + seconds, 3, lambda idle=idle: self._fire(idle)))
+            found.append((tick[0], 2, lambda: self._fire("every", tick[1])))
+        idle = {h.on.event.seconds for h in self._kinds.get("idle", ()) if self.states.live(h.state)}
+        for seconds in idle - self._idle_fired:  # each once, until an event comes
+            found.append((self.last_event + seconds, 3, lambda s=seconds: self._fire("idle", s)))
         if not found:
             return None
         at, _, action = min(found, key=lambda f: (f[0], f[1]))
         return at, action
 
-    def _fire(self, event: n.Event) -> None:  # a timer: `every` ticks again a period on, `idle` once
-        (self._every.tick() if event.kind == "every" else self._idle_fired.add(event.seconds))
-        self._dispatch(event, self.clock, "")
+    def _fire(self, kind: str, seconds: float) -> None:  # a timer: `every` ticks on, `idle` once
+        if kind == "every":
+            self._every.tick()
+        else:
+            self._idle_fired.add(seconds)
+        self._dispatch(n.Event(kind, seconds=seconds), self.clock, "")
 
     # -- events
 
@@ -296,13 +298,11 @@ class LiveSession:
         return not run.done and run.playing is None and run.waiting is None
 
     def _pause(self, run: Optional[Run], at: float) -> None:
+        """Stop what `run` plays at `at`: it starts over (a wait waits out the rest) when it goes on."""
         if run is not None and run.playing is not None:
-            self._cut(run, at)
-
-    def _cut(self, run: Run, at: float) -> None:
-        play, start, _ = run.playing  # type: ignore[misc]
-        run.runner.cut(play, at - start)
-        run.playing = None
+            play, start, _ = run.playing
+            run.runner.cut(play, at - start)
+            run.playing = None
 
     def _woken(self, run: Run, at: float, go: bool = True) -> None:
         run.waiting = None

@@ -27,13 +27,13 @@ class Answering:
 
     def __init__(self, ask: n.Ask) -> None:
         self.ask = ask
-        phrases = [p for answer in ask.answers for p in answer.phrases]
-        self.event = n.Event("word", ALTERNATIVES.join(dict.fromkeys(phrases)))
+        self.event = n.Event("word", ALTERNATIVES.join(dict.fromkeys(ask.phrases)))
         self.timeout: Optional[float] = ask.nothing[0] if ask.nothing is not None else None
+        self.asked = f"line {ask.pos.line} 'ask {quoted(ask.question.text)}'"  # as the log names it
 
     def answer(self, event: n.Event) -> Optional[Chosen]:
         """What `event` chooses, or None if it answers nothing."""
-        asked = f"line {self.ask.pos.line} 'ask {quoted(self.ask.question.text)}'"
+        asked = self.asked
         if event.kind == "word":
             for answer in self.ask.answers:
                 if event.arg in answer.phrases:
@@ -62,6 +62,5 @@ class Answering:
 
     def unanswered(self) -> Chosen:
         """The `nothing` time passed and nobody spoke."""
-        asked = f"line {self.ask.pos.line} 'ask {quoted(self.ask.question.text)}'"
         body = self.ask.nothing[1] if self.ask.nothing is not None else ()
-        return Chosen(f"{asked}: nothing heard within {self.timeout:g} s", body)
+        return Chosen(f"{self.asked}: nothing heard within {self.timeout:g} s", body)

@@ -13,10 +13,11 @@ only, so a script's timers cost the same however many periods it has.
 from __future__ import annotations
 
 import heapq
-from typing import Dict, Iterator, List, Optional, Sequence, Tuple
+from typing import Dict, List, Optional, Sequence, Tuple
 
 from ..core.face_constants import LIMITS
 from ..language import syntax_tree as n
+from ..language.borrowing import called
 from ..language.diagnostics import Diagnostic, ScriptError
 from .session_records import Handler, Run
 
@@ -39,24 +40,6 @@ def ons_of(script: n.Script) -> List[Tuple[n.On, Optional[str]]]:
     return found
 
 
-def calls_needed(body: Sequence[n.Statement], definitions: Dict[str, n.Define]) -> Tuple[n.Define, ...]:
-    """The definitions `body` calls, through each other's calls, in the script's order."""
-    needed: Dict[str, n.Define] = {}
-    stack: List[Iterator[n.Statement]] = [iter(body)]
-    while stack:  # without recursion: blocks nest as deep as the parser allows
-        statement = next(stack[-1], None)
-        if statement is None:
-            stack.pop()
-            continue
-        if isinstance(statement, n.Call) and statement.name in definitions and statement.name not in needed:
-            needed[statement.name] = definitions[statement.name]
-            stack.append(iter(definitions[statement.name].body))
-        if isinstance(statement, n.BLOCKS) and not isinstance(statement, n.Define):
-            stack.append(iter(statement.body))
-    order = list(definitions)
-    return tuple(sorted(needed.values(), key=lambda d: order.index(d.name)))
-
-
 def install(installed: List[Handler], script: n.Script) -> Tuple[List[Handler], List[Handler]]:
     """`installed` with `script`'s handlers added, each replacing an installed handler of its
     event (a script's own are all kept: the first starts, the others follow their policies), and
@@ -76,10 +59,10 @@ def install(installed: List[Handler], script: n.Script) -> Tuple[List[Handler], 
 def kept_for(script: n.Script, body: Sequence[n.Statement], definitions: Dict[str, n.Define]) -> n.Script:
     """`script` cut down to what `body` needs to run: the definitions it calls (`definitions`,
     the script's, read once by the caller). The source is one string every handler of the script
-    shares, so an error still shows its line."""
-    return n.Script(
-        calls_needed(body, definitions), script.filename, source=script.source, legacy=script.legacy
-    )
+    shares, so an error still shows its line. The definitions keep the script's order."""
+    needed = {d.name for d in called(body, definitions)}
+    kept = tuple(d for name, d in definitions.items() if name in needed)
+    return n.Script(kept, script.filename, source=script.source, legacy=script.legacy)
 
 
 def _within_bounds(kept: List[Handler], ons: List[n.On], script: n.Script) -> None:

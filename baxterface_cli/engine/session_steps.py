@@ -16,10 +16,10 @@ from typing import TYPE_CHECKING, Optional, Tuple
 from ..core.face_constants import LIMITS
 from ..core.face_state import FaceState
 from ..language import syntax_tree as n
+from ..language.borrowing import called
 from ..language.diagnostics import ScriptError
 from . import effects as fx
 from .compiler import Carry, compile_script
-from .session_handlers import calls_needed
 from .session_program import Play, _Frame
 from .session_records import Run
 from .timeline import Timeline
@@ -42,7 +42,7 @@ def compile_step(
     from ..speech.recordings import RecordingError
 
     script = n.Script(
-        calls_needed((step.statement,), run.runner.definitions) + (step.statement,),
+        called((step.statement,), run.runner.definitions) + (step.statement,),
         run.script.filename,
         source=run.script.source,
         legacy=run.script.legacy,  # the old node's commands cut, as the old node did

@@ -108,10 +108,12 @@ def borrowed(
     if borrowing.gestures:
         for name, gesture in gesture_library(read).items():
             offered.setdefault(name, (gesture.define, GESTURES_FILE))
-    return _called(body, own, {name: d for name, (d, _) in offered.items()})
+    return called(body, {name: d for name, (d, _) in offered.items() if name not in own})
 
 
-def _called(body: Sequence[n.Statement], own: set, offered: Dict[str, n.Define]) -> Tuple[n.Define, ...]:
+def called(body: Sequence[n.Statement], offered: Dict[str, n.Define]) -> Tuple[n.Define, ...]:
+    """The definitions of `offered` that `body` calls, through each other's calls, in the order
+    first called; without recursion, so blocks nested as deep as the parser allows cost no stack."""
     taken: Dict[str, n.Define] = {}
     stack = [iter(body)]
     while stack:
@@ -121,7 +123,7 @@ def _called(body: Sequence[n.Statement], own: set, offered: Dict[str, n.Define])
             continue
         if isinstance(statement, n.Call):
             name = statement.name
-            if name not in own and name not in taken and name in offered:
+            if name not in taken and name in offered:
                 taken[name] = offered[name]
                 stack.append(iter(offered[name].body))
         elif isinstance(statement, n.BLOCKS):

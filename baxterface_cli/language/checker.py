@@ -56,7 +56,7 @@ def phrases_listened(body: Sequence[Any]) -> List[str]:
         for phrase in (
             phrases(s.event)
             if isinstance(s, (n.On, n.WaitUntil)) and s.event is not None and s.event.kind == "word"
-            else [p for answer in s.answers for p in answer.phrases]
+            else list(s.phrases)
             if isinstance(s, n.Ask)
             else []
         )

@@ -221,7 +221,7 @@ def _phrases(statements: Any, out: List[Diagnostic]) -> None:
         if isinstance(statement, (n.On, n.WaitUntil)) and event is not None and event.kind == "word":
             heard = phrases(event)
         elif isinstance(statement, n.Ask):
-            heard = [p for answer in statement.answers for p in answer.phrases]
+            heard = list(statement.phrases)
         if heard:
             for phrase in heard:
                 if phrase not in listened and len(listened) == LIMITS.max_phrases:

@@ -343,6 +343,11 @@ class Ask(Block):
     pos: Pos = _pos()
 
     @property
+    def phrases(self) -> Tuple[str, ...]:
+        """Every answer's phrases, in order: what the `ask` listens for."""
+        return tuple(p for answer in self.answers for p in answer.phrases)
+
+    @property
     def body(self) -> Tuple[Statement, ...]:  # type: ignore[override]
         """Every branch's statements, one after another: what the checks look through."""
         branches = [a.body for a in self.answers] + [self.otherwise or ()]
