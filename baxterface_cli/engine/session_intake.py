@@ -71,9 +71,9 @@ def _totals(session: LiveSession) -> Dict[str, int]:
 
 
 def _kept_of(script: n.Script) -> Optional[n.Script]:
-    """A take-over replaced before it started: what of it still counts (its handlers, definitions
-    and signals), or None if it said nothing else (it is taken as it is)."""
-    kept = tuple(s for s in script.body if isinstance(s, (n.On, n.Define, n.Signal)))
+    """A take-over replaced before it started: what of it still counts (its handlers, states,
+    definitions and signals), or None if it said nothing else (it is taken as it is)."""
+    kept = tuple(s for s in script.body if isinstance(s, (n.On, n.State, n.Define, n.Signal)))
     if len(kept) == len(script.body):
         return None
     return n.Script(kept, script.filename, source=script.source, legacy=script.legacy)

@@ -164,3 +164,12 @@ def test_a_line_repeated_every_round_is_forwarded_once_a_second_with_its_count(l
     timed = [text for _, text in logged if "timed out" in text]
     assert 4 <= len(timed) <= 6, timed
     assert timed[-1].endswith("more like it in the second before)")
+
+
+def test_a_take_over_let_go_for_a_later_one_still_installs_its_states(live):
+    session, intake, _, _ = live
+    with session.lock:  # both sent before the worker hands the first over
+        intake.submit("state calm { happy }\non touch { go calm }\nsad; wait 5s")
+        intake.submit("nod")
+    eventually(lambda: intake.idle() and session.main is not None and session.main.script.source == "nod")
+    assert "calm" in session.states.known and intake.dropped == 1
