@@ -264,16 +264,19 @@ def test_two_unknown_events_are_two_errors_and_no_warning_of_one_handled_twice()
 
 
 def test_a_word_event_takes_any_of_its_phrases_and_says_them_as_written():
-    script = parse('on word "Hello" | "hi  robot" { happy }\nwait until word "yes" | "sure" timeout 3s')
+    script = parse('on word "Hello" | "hi  robot" { happy }\nwait until word "yes" timeout 3s')
     on, wait = script.body
-    assert on.event == n.Event("word", "hello|hi robot") and wait.event.arg == "yes|sure"
+    assert on.event == n.Event("word", "hello|hi robot") and wait.event.arg == "yes"
+    # In a `one of`, a bar after a `wait until` is the next choice, as it always was.
+    (choices,) = parse("one of { wait until signal x | nod }").body
+    assert len(choices.choices) == 2
     assert matches(on.event, n.Event("word", "hi robot")) and matches(on.event, n.Event("word", "hello"))
     assert not matches(on.event, n.Event("word", "hi"))
     from baxterface_cli.language.checker import phrases_listened
     from baxterface_cli.language.events import in_words
 
     assert in_words(on.event) == 'word "hello" | "hi robot"'
-    assert phrases_listened(script.body) == ["hello", "hi robot", "yes", "sure"]
+    assert phrases_listened(script.body) == ["hello", "hi robot", "yes"]
     assert errors('on word "hello" | { nod }') == [
         "t.face:1:17: error: 'word' needs the words in double quotes: 'word \"hello\"'"
     ]
