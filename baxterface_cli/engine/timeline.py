@@ -87,7 +87,8 @@ class Timeline:
     _mood_times: List[float] = field(default_factory=list, repr=False)
 
     def __post_init__(self) -> None:
-        self.parts = [] if self.shape is None else picture_changes(self.shape, self.initial.parts)
+        before = nearest_parts(_shown_first(self.initial))
+        self.parts = [] if self.shape is None else picture_changes(self.shape, before)
         self._part_times = [c.at for c in self.parts]
         self._emotion_times = [at for at, _ in self.emotions]
         self._speech_times = [said.at for said in self.speech]
@@ -136,7 +137,7 @@ class Timeline:
         state = replace(state, pictured=change.shows)
         elapsed = t - change.at
         if elapsed < change.fade - 1e-9:  # the end of a fade, up to float rounding, is no fade
-            before = self.parts[i - 1].shows if i > 0 else _pictured(self.initial)
+            before = self.parts[i - 1].shows if i > 0 else _shown_first(self.initial)
             if nearest_parts(before) != change.parts:
                 return replace(state, pictured_from=before, fade=elapsed / change.fade)
         return replace(state, pictured_from=None, fade=1.0)
@@ -177,6 +178,15 @@ def _speaking(state: FaceState, said: Said, t: float) -> FaceState:
         if nearest_parts(before) != nearest_parts(now):
             return replace(state, pictured=now, pictured_from=before, fade=progress)
     return replace(state, pictured=now)
+
+
+def _shown_first(state: FaceState) -> Expression:
+    """What the pictures showed before a timeline's first change: where a crossfade under way
+    when it began (a session's step starts where the last left off) comes from, so the step's
+    carried move goes on fading rather than holding the fade's first picture."""
+    if state.pictured_from is not None and state.fade < 1.0:
+        return state.pictured_from
+    return _pictured(state)
 
 
 def _pictured(state: FaceState) -> Expression:

@@ -206,3 +206,18 @@ def test_each_log_line_says_what_kind_of_thing_it_tells():
     assert [line.text for line in s.log if line.kind == LogKind.DROPPED] == [
         "dropped touch: line 1 'on touch' is running"
     ]
+
+
+def test_a_crossfade_begun_as_a_step_ends_goes_on_fading_in_the_next_step():
+    # `sleep` changes the skin at its very end; the `wait` after it starts as that crossfade does.
+    # The pictures must fade through the wait as the compiled script has them, not hold the first
+    # picture of the fade until the next change (a theme of pictures showed the old face).
+    from baxterface_cli.engine.compiler import compile_script
+
+    script = parse("sleep\nwait 1s\nhappy\n")
+    compiled = compile_script(script, 0)
+    session = run_over(script, None, 0).timeline
+    fades = [(compiled.sample(t / 50).fade, session.sample(t / 50).fade) for t in range(1, 150)]
+    under_way = [(c, s) for c, s in fades if 0.0 < c < 1.0]
+    assert under_way, "the script's skin change should crossfade"
+    assert all(abs(c - s) < 1e-6 for c, s in under_way)
