@@ -124,8 +124,11 @@ class _Reader:
         when, *words = tokens
         if when.type != "QUANTITY":
             # `face seen`: the line is the event; `five touch`: the event comes after a time in words.
-            starts_event = str(when).lower() in {kind.split()[0] for kind in KINDS}
-            example = " ".join(str(t) for t in (tokens if starts_event or not words else words))
+            firsts = {kind.split()[0] for kind in KINDS}
+            event = tokens if str(when).lower() in firsts else words
+            # the hint is a line that reads: the line's own event, else one every face knows
+            known = bool(event) and str(event[0]).lower() in firsts
+            example = " ".join(str(t) for t in event) if known else "face seen"
             self.error(when, f"a line starts with the seconds its event comes at, as in '2.5 {example}'")
             return None
         before = len(self.diagnostics)

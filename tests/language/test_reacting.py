@@ -205,7 +205,7 @@ def test_an_events_file_says_every_problem_where_it_is():
     with pytest.raises(ScriptError) as caught:
         parse_trace(
             '1 face sen\nface seen\n3 every 5s\n4 face seen queue\n5 word "hi\n6x face lost\n'
-            "7 face lost\n2 face seen\n9 touch nose\n8 touch\n",
+            "7 face lost\n2 face seen\n9 touch nose\n8 touch\nhello\n",
             "v.events",
         )
     assert [d.head("v.events") for d in caught.value.diagnostics] == [
@@ -220,6 +220,8 @@ def test_an_events_file_says_every_problem_where_it_is():
         "or 'brows', or anywhere",
         # Its event was bad, its time good: the next line's time is checked against it.
         "v.events:10:1: error: times go forward: 8 comes after 9 s",
+        # A line with no time and no event: the hint is a line that reads, not '2.5 hello'.
+        "v.events:11:1: error: a line starts with the seconds its event comes at, as in '2.5 face seen'",
     ]
 
 
