@@ -40,6 +40,7 @@
       if (face.width !== bitmap.width || face.height !== bitmap.height) {
         face.width = bitmap.width;
         face.height = bitmap.height;
+        placePrompt();
       }
       canvas.drawImage(bitmap, 0, 0);
       bitmap.close();
@@ -49,11 +50,27 @@
     }, () => {});
   }
 
+  // The 'Tap for sound' prompt sits in the lower left corner of the face, on plain skin, or on the
+  // black bar below a letterboxed face where the bar holds it (a portrait window): a bar thinner
+  // than the prompt (a 1280x800 tablet's, 25 px) would put half of it on the face's edge.
+  function placePrompt() {
+    if (!face.width) return;
+    const drawnHeight = Math.min(innerHeight, (innerWidth * face.height) / face.width);
+    const bar = (innerHeight - drawnHeight) / 2;
+    const margin = Math.max(8, 0.02 * Math.min(innerWidth, innerHeight));
+    const onBar = bar >= tap.offsetHeight + 2 * margin;
+    tap.style.bottom = `${(onBar ? 0 : bar) + margin}px`;
+  }
+  addEventListener("resize", placePrompt);
+
   // -- the sound: a tap lets it in where the browser asks for one
 
   const voice = window.BaxterSound({
     token,
-    needsTap: (needed) => (tap.hidden = !needed),
+    needsTap: (needed) => {
+      tap.hidden = !needed;
+      placePrompt(); // its height known once shown
+    },
   });
   shown.started = voice.started;
 
