@@ -32,7 +32,8 @@ from collections import defaultdict
 from pathlib import Path
 from typing import Dict, List, Tuple
 
-from baxterface_cli.cli.app import DEFAULT_SEED, animation_for, fitted_theme
+from baxterface_cli.cli.app import DEFAULT_SEED, fitted_theme
+from baxterface_cli.cli.events_option import session_animation
 from baxterface_cli.core.presets import expression_of
 from baxterface_cli.drawing.pose import pose
 from baxterface_cli.drawing.renderer import Renderer
@@ -60,7 +61,7 @@ PROFILED = {**SCRIPTS, "skin tint sweep": "repeat 10 { skin tint 0 in 1s; skin t
 
 
 def animation(name: str) -> Animation:
-    return animation_for(parse(PROFILED[name], name), DEFAULT_SEED, False, None)
+    return session_animation(parse(PROFILED[name], name), None, DEFAULT_SEED, False, None, None, "bench")[0]
 
 
 def layers():
@@ -109,7 +110,7 @@ def measure(runs: int) -> None:
         folder = Path(tmp)
         # Warm up: PyAV's import and the theme's skins drawn once, costs a process pays once.
         render(
-            animation_for(parse("mood 1 0 in 0.2s"), 0, False, None),
+            session_animation(parse("mood 1 0 in 0.2s"), None, 0, False, None, None, "bench")[0],
             Renderer(layers()),
             str(folder / "w.mp4"),
         )
@@ -179,7 +180,7 @@ def profile() -> None:
     fitted = layers()
     with tempfile.TemporaryDirectory() as tmp:
         out = str(Path(tmp) / "mood.mp4")
-        warm_up = animation_for(parse("mood 1 0 in 0.2s"), 0, False, None)
+        warm_up = session_animation(parse("mood 1 0 in 0.2s"), None, 0, False, None, None, "bench")[0]
         render(warm_up, Renderer(fitted), out)
 
         steps = [

@@ -197,24 +197,6 @@ def following_from(path: Optional[str], animation, command: str, say, face_polic
     return Rehearsal(source, warn) if face_policy is None else Rehearsal(source, warn, face_policy)
 
 
-def animation_for(script: Script, seed: Optional[int], idle: bool, crossfade: Optional[float]):
-    from ..engine.animation import Animation
-    from ..engine.compiler import compile_script
-    from ..engine.session_program import not_here
-    from ..speech.recordings import RecordingError
-
-    refused = not_here(script, "this command")  # render, play and explain run it: events_option.py
-    if refused is not None:
-        raise fail(refused.summary())
-    try:
-        timeline = compile_script(script, seed, crossfade=crossfade, recordings=recordings_of(script))
-    except MissingTool as e:  # `say` without a speech engine, `say file` without PyAV
-        raise fail(f"baxterface: {e}") from None
-    except RecordingError as e:  # a recording gone or changed since it was checked
-        raise fail(ScriptError([e.diagnostic()], script.filename, script.source).render()) from None
-    return Animation(timeline, idle=idle, seed=seed)
-
-
 def parse_size_option(text: Optional[str]) -> Optional[tuple]:
     from ..drawing.theme_manifest import parse_size
 

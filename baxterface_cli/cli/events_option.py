@@ -11,7 +11,7 @@ import typer
 from ..core.face_constants import LIMITS
 from ..language.diagnostics import ScriptError
 from ..language.syntax_tree import Script
-from .app import animation_for, fail, recordings_of
+from .app import fail, recordings_of
 from .finite_numbers import finite
 
 T = TypeVar("T")
@@ -41,11 +41,11 @@ DURATION_OPT = typer.Option(
     min=0.0,
     max=LIMITS.max_seconds,
     callback=finite,
-    help="Seconds to run a script that reacts (default: until it rests after the last event).",
+    help="Seconds to run the script (default: until it rests after its end and the last event).",
 )
 
 
-def reacting_animation(
+def session_animation(
     script: Script,
     events: Optional[str],
     seed: Optional[int],
@@ -56,18 +56,12 @@ def reacting_animation(
     hear: Optional[str] = None,
     heard: Any = None,
 ) -> Tuple[Any, List[Any]]:
-    """The animation to show, and the session's log ([] for a script that does not react and has
-    no events): the script compiled as always, or run by the session over `events` and the words
-    heard in `hear` (or over `heard`, the two already read by `events_trace`)."""
+    """The animation to show, and the session's log: the script run by the live session, as every
+    live end runs it, over `events` and the words heard in `hear` (or over `heard`, the two already
+    read by `events_trace`), with no events if neither is given."""
     from ..engine.animation import Animation
-    from ..engine.session_run import reactive, run_over
+    from ..engine.session_run import run_over
 
-    if events is None and hear is None and not reactive(script):
-        if duration is not None:
-            raise fail(
-                f"baxterface {command}: --duration is for a script that reacts (with 'on', 'forever' ...)", 2
-            )
-        return animation_for(script, seed, idle, crossfade), []
     trace = heard if heard is not None else events_trace(script, events, hear, command)
     run = ran(command, lambda: run_over(script, trace, seed, duration, crossfade, recordings_of(script)))
     return Animation(run.timeline, idle=idle, seed=seed), run.log  # type: ignore[arg-type]

@@ -19,7 +19,6 @@ from .app import (
     RANDOM_SEED_OPT,
     SIZE_OPT,
     THEME_OPT,
-    animation_for,
     check_recordings,
     fail,
     fitted_theme,
@@ -35,7 +34,7 @@ from .events_option import (
     LISTEN_OPT,
     events_trace,
     handlers_need_events,
-    reacting_animation,
+    session_animation,
 )
 from .finite_numbers import finite
 from .log_option import LOG_OPT, LOG_SIZE_OPT, log_file
@@ -118,7 +117,7 @@ def play(
         )
     start_in_background()  # the speech process starts as the theme is fitted: no `say` waits for it
     renderer = Renderer(fitted_theme(theme, size, "play"))
-    animation, _ = reacting_animation(script, events, seed, idle, crossfade, duration, "play", hear, heard)
+    animation, _ = session_animation(script, events, seed, idle, crossfade, duration, "play", hear, heard)
     held: List[str] = []  # a terminal's face would cover the line; it is said when the face is gone
 
     def say(line: str) -> None:
@@ -176,6 +175,6 @@ def _watcher(path: str, seed: Optional[int], idle: bool, crossfade: Optional[flo
             player.note = f"kept the last good version: line {first.line}: {first.message}"
             return None
         player.note = ""
-        return animation_for(script, seed, idle, crossfade)
+        return session_animation(script, None, seed, idle, crossfade, None, "play")[0]
 
     return poll

@@ -31,7 +31,7 @@ from .app import (
     load_script,
     script_from,
 )
-from .events_option import DURATION_OPT, EVENTS_OPT, HEAR_OPT, reacting_animation
+from .events_option import DURATION_OPT, EVENTS_OPT, HEAR_OPT, session_animation
 from .finite_numbers import finite
 from .log_replay import annotated, is_log, log_animation
 
@@ -102,6 +102,7 @@ def explain(
     script's words heard in a recording are events too.
     """
     from ..engine.explanation import explained, frame_times
+    from ..engine.session_run import reactive
     from ..engine.timeline import state_record
 
     if is_log(script_path):  # a session's log: its scripts and events run again
@@ -110,7 +111,9 @@ def explain(
         script, log = replay.script, run.log
     else:
         script = script_from(script_path, inline, "explain")
-        animation, log = reacting_animation(script, events, seed, idle, crossfade, duration, "explain", hear)
+        animation, log = session_animation(script, events, seed, idle, crossfade, duration, "explain", hear)
+        if events is None and hear is None and not reactive(script):
+            log = []  # it says only that the script ended, as the listing's end does
     timeline = animation.timeline
     if as_json:
         for t in frame_times(timeline.duration, fps):  # the frames `render` draws
@@ -199,7 +202,7 @@ def render(
             animation, _, _ = log_animation(script_path, seed, idle, crossfade, duration, "render", given)
         else:
             script = script_from(script_path, inline, "render")
-            animation, _ = reacting_animation(script, events, seed, idle, crossfade, duration, "render", hear)
+            animation, _ = session_animation(script, events, seed, idle, crossfade, duration, "render", hear)
         say = lambda line: typer.echo(line, err=True)  # noqa: E731
         follow = following_from(follow_from, animation, "render", say, face_policy)
         if at is not None and at > animation.duration:

@@ -108,10 +108,6 @@ class Preview:
         taking the lock the frames wait on."""
         return reacting.animation(self, script, list(self.events))
 
-    def compiled(self, script: Script) -> Animation:
-        """A script that does not react, compiled whole as `render` plays it."""
-        return Animation(compile_script(script, self.seed, recordings=self.recordings), self.idle, self.seed)
-
     def show(
         self, script: Script, animation: Animation, counts: Optional[Dict[str, int]] = None, run: Any = None
     ) -> None:

@@ -30,7 +30,6 @@ from ..core.partial_files import write_atomic
 from ..engine.animation import Animation
 from ..engine.session_handlers import ons_of
 from ..engine.session_program import first_reacting
-from ..engine.session_run import reactive
 from ..language import syntax_tree as n
 from ..language.diagnostics import Diagnostic, ScriptError
 from ..language.event_trace import Posted
@@ -72,11 +71,9 @@ def listens(script: n.Script) -> List[str]:
 def animation(
     preview: Any, script: n.Script, events: List[Posted]
 ) -> Tuple[Animation, Dict[str, Any], Optional[EventRun]]:
-    """`script` played as the `preview` (preview.py's, which imports this) plays it: over `events`
-    when it reacts, kept to be continued. And what its handlers did: runs, dropped and queued in
-    all (zeros for a script that does not react)."""
-    if not reactive(script):
-        return preview.compiled(script), {"runs": 0, "dropped": 0, "queued": 0}, None
+    """`script` played as the `preview` (preview.py's, which imports this) plays it: the live
+    session's run over `events`, as `render --events` makes it, kept to be continued. And what its
+    handlers did: runs, dropped and queued in all."""
     run = EventRun.start(script, preview.seed, preview.recordings, tuple(events))
     return Animation(run.timeline, preview.idle, preview.seed), run.counts, run  # type: ignore[arg-type]
 
