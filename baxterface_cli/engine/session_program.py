@@ -190,7 +190,7 @@ class Runner:
 
 def first_reacting(script: n.Script) -> Optional[Any]:
     """The first statement that only the live session runs (a handler, a wait, a signal, `forever`,
-    `one of`), or None: a script without any is compiled as it always was."""
+    `one of`), or None: a script without any needs no events to come to rest."""
     from ..language.checker import walk
     from ..language.statements import SESSION_KINDS
 

@@ -1,6 +1,7 @@
-"""A live session run over an events file, for `render`, `play` and `explain --events`.
+"""A live session run on a clock of its own, over an events file or none: how `render`, `explain`,
+`play` in a terminal and the studio's preview play every script, reacting or not.
 
-The session (live_session.py) takes the file's events at their times, on a clock of its own, so
+The session (live_session.py) takes the file's events at their times, so
 the same script, events and seed give the same timelines and the same frames, to the bit.
 
 How long it lasts: `duration` if given. Otherwise until the session comes to rest after the file's
