@@ -81,4 +81,4 @@ class ScreenApi(FaceApi):
     @answered
     async def state(self, request: Request) -> Response:
         state = await run_in_threadpool(self.face.state)
-        return JSONResponse({**state, "screens": len(self.pages.queues)})
+        return JSONResponse({**state, "screens": len(self.pages.open)})

@@ -35,7 +35,8 @@ from ..language.diagnostics import ScriptError, shortened
 from ..language.event_line import read_event_line
 from ..language.source import decode
 from .answers import diagnostics_json, problem
-from .frame_pump import STATUS_EVERY, Frames, Pages, Pump, Shown
+from .frame_pump import STATUS_EVERY, Frames, Pump, Shown
+from .pages import BINARY, TEXT, Pages, message, transport_of
 from .refusal_log import RefusalLog, echoed
 from .request_guard import Guard
 from .sounds import SOUND_KEY
@@ -312,30 +313,22 @@ class FaceApi:
         self.start()
         await websocket.accept()
         self.opened()
-        queue = self.pages.add()
-        # A page that closes is noticed at once, not at the next message sent to it (the close
-        # handshake waits for an answer: a page's tab closed, a screen reloaded).
-        sending, closing = self._send(websocket, queue), _closed(websocket)
-        tasks = {asyncio.ensure_future(sending), asyncio.ensure_future(closing)}
+        transport = transport_of(websocket.scope)
+        sent = self.pages.frames_sent
+        jpeg = await run_in_threadpool(self.frames.jpeg, self.shown.face())
+        # A frame the pump sent meanwhile is newer than this one: that one, then.
+        first = self.pages.frame if self.pages.frames_sent != sent else message(BINARY, jpeg)
+        if transport.is_closing():
+            return
+        transport.write(first)
+        transport.write(message(TEXT, json.dumps(self.shown.status()).encode("utf-8")))
+        self.pages.add(transport)
         try:
-            await asyncio.wait(tasks, return_when=asyncio.FIRST_COMPLETED)
+            # A page that closes is noticed at once, not at the next message sent to it (the close
+            # handshake waits for an answer: a page's tab closed, a screen reloaded).
+            await _closed(websocket)
         finally:
-            for task in tasks:
-                task.cancel()
-            self.pages.remove(queue)
-
-    async def _send(self, websocket: WebSocket, queue: asyncio.Queue) -> None:
-        try:
-            await websocket.send_bytes(await run_in_threadpool(self.frames.jpeg, self.shown.face()))
-            await websocket.send_text(json.dumps(self.shown.status()))
-            while True:
-                item = await queue.get()
-                if isinstance(item, bytes):
-                    await websocket.send_bytes(item)
-                else:
-                    await websocket.send_text(json.dumps(item))
-        except (WebSocketDisconnect, RuntimeError, OSError):
-            pass
+            self.pages.remove(transport)
 
     async def not_here(self, request: Request, exc: Exception) -> Response:
         """Starlette's own 404 and 405, answered in JSON like the rest and logged."""

@@ -13,12 +13,13 @@ import asyncio
 import io
 import threading
 import time
-from typing import Any, Callable, Dict, List, Optional, Protocol, Set
+from typing import Any, Callable, Dict, List, Optional, Protocol
 
 import numpy as np
 
 from ..drawing.renderer import Renderer
 from ..engine.change_polling import ChangePolling
+from .pages import Pages
 
 STATUS_EVERY = 0.1  # seconds between status messages to the page
 DISK_EVERY = 0.5  # seconds between looks at the script and the panel on disk
@@ -72,27 +73,6 @@ class Frames:
             image.save(out, "JPEG", quality=JPEG_QUALITY)
             self.last_key, self.last_jpeg = key, out.getvalue()
             return self.last_jpeg
-
-
-class Pages:
-    """The open pages: each gets the newest frame and messages; a slow page skips frames, not messages."""
-
-    def __init__(self) -> None:
-        self.queues: Set[asyncio.Queue] = set()
-
-    def add(self) -> asyncio.Queue:
-        queue: asyncio.Queue = asyncio.Queue(maxsize=64)
-        self.queues.add(queue)
-        return queue
-
-    def remove(self, queue: asyncio.Queue) -> None:
-        self.queues.discard(queue)
-
-    def send(self, item: Any) -> None:
-        for queue in list(self.queues):
-            if queue.full():  # a page that does not keep up: drop its oldest
-                queue.get_nowait()
-            queue.put_nowait(item)
 
 
 class Pump:
@@ -168,7 +148,8 @@ class Pump:
             try:
                 # With no page open nothing is looked at: a page that opens is sent the face as it is
                 # then (face_api.py), as the first page always was, before the pump started.
-                if pages.queues:
+                pages.catch_up()  # a page that was still sending the last frame is sent the newest
+                if pages.open:
                     # A command wakes the pump at once; a flood of them must not draw more often.
                     face = shown.face() if now >= next_frame - EARLY else None
                     key = self.frames.key(face) if face is not None else drawn

@@ -12,6 +12,7 @@ import threading
 from typing import Any, Callable, Optional
 
 from .connections import Connections
+from .pages import page_protocol
 
 _WRITING = threading.Lock()
 
@@ -90,7 +91,11 @@ def serve(
             log_level="warning",
             lifespan="off",
             ws_max_size=4 * 1024 * 1024,
+            # The frames are JPEG, which deflate does not shrink; and they are written to the pages
+            # as they are, framed once for all (pages.py).
+            ws_per_message_deflate=False,
             http=connections.protocol(),
+            ws=page_protocol(),
         )
         Server(config).run(sockets=[sock])
     finally:

@@ -8,6 +8,7 @@ from __future__ import annotations
 import contextlib
 import io
 import json
+import socket
 import threading
 import time
 import wave
@@ -157,6 +158,51 @@ def test_every_page_gets_each_changed_frame_and_none_while_the_face_is_still(scr
             page.until(lambda m: isinstance(m, str))  # a second more of a still face
             assert len(page.frames) == ended
         assert watching[0].frames[-1] == watching[1].frames[-1] == screen.frame()  # one face on both
+
+
+def test_a_page_that_stops_reading_holds_up_no_other_and_is_sent_the_newest_frame(screen):
+    stalled = socket.socket()
+    stalled.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4096)  # its window fills at once
+    stalled.settimeout(30)
+    stalled.connect(("127.0.0.1", int(screen.base.rsplit(":", 1)[1])))
+    with stalled, pages(screen) as (page,):
+        stalled.sendall(
+            b"GET /api/live HTTP/1.1\r\nHost: 127.0.0.1\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
+            b"Sec-WebSocket-Key: c3RhbGxlZCBwYWdlIGtleQ==\r\nSec-WebSocket-Version: 13\r\n"
+            + f"X-Baxterface-Token: {TOKEN}\r\n\r\n".encode()
+        )
+        page.until(lambda m: isinstance(m, str))
+        eventually(lambda: screen.json("GET", "/api/state")[1]["screens"] == 2)
+        command = "repeat 4 { look left in 0.4s linear; look right in 0.4s linear }"
+        duration = screen.json("POST", "/api/command", command)[1]["duration"]
+        page.frames.clear()
+        page.until(lambda m: isinstance(m, str) and json.loads(m)["t"] > duration + 1.2)
+        assert len(page.frames) >= 20  # the other page got the move, frame by frame
+        # Now the stalled page reads: whatever it skipped (the frames the kernel's buffers could
+        # not hold), it is sent the face as it is now (a read that waits 30 s in vain fails).
+        newest = page.frames[-1]
+        assert newest == screen.frame()
+        assert any(message == newest for message in messages(stalled))
+
+
+def messages(sock: socket.socket) -> Iterator[object]:
+    """A raw WebSocket's messages from the server, after the handshake: bytes, or text as str."""
+    data = b""
+    while b"\r\n\r\n" not in data:
+        data += sock.recv(65536)
+    assert data.startswith(b"HTTP/1.1 101")
+    data = data.split(b"\r\n\r\n", 1)[1]
+    while True:
+        while len(data) < 10:
+            data += sock.recv(65536)
+        size, at = data[1] & 0x7F, 2
+        if size >= 126:
+            at = 4 if size == 126 else 10
+            size = int.from_bytes(data[2:at], "big")
+        while len(data) < at + size:
+            data += sock.recv(1 << 20)
+        binary, payload, data = data[0] & 0x0F == 2, data[at : at + size], data[at + size :]
+        yield payload if binary else payload.decode("utf-8")
 
 
 def test_the_state_says_what_the_face_does_and_what_is_said_is_served_as_wav(screen, engine):
