@@ -12,7 +12,7 @@ Robot effects (head, nod, enable, follow, exit) fall due as time passes and are 
 from __future__ import annotations
 
 import random
-from typing import TYPE_CHECKING, Callable, List, Optional
+from typing import TYPE_CHECKING, Callable, List, Optional, Tuple
 
 from ..core.face_constants import EMOTIONS
 from ..core.face_state import FaceState
@@ -105,6 +105,11 @@ class LiveFace:
     @property
     def timeline(self) -> Timeline:
         return self._playing[0]
+
+    @property
+    def playing(self) -> Tuple[Timeline, float]:
+        """The timeline and its start, read together (a worker may begin another meanwhile)."""
+        return self._playing[:2]
 
     @property
     def started(self) -> float:

@@ -1,7 +1,7 @@
 """One live session: a script and its handlers on one face, events in, face states and robot cues out.
 
-The clock is the caller's: `run` takes a script, `post` an event, `tick(now)` gives the face and
-the robot cues due (`frame`, for a loop that must never wait for a compile, leaves `advance` to a
+The clock is the caller's: `run` takes a script, `post` an event, `tick(now)` gives the face and the
+cues due (a frame loop reads `face.state(now)`, lets time pass by `catch_up`, leaves `advance` to a
 worker: session_intake.py). Every public method may be called from any thread (one lock). `render`,
 `play` and `explain --events` run the same session over an events file (session_run.py).
 
@@ -136,9 +136,9 @@ class LiveSession:
             cues, self.cues = self.cues + self.face.due(now), []
             return state, cues
 
-    def frame(self, now: float) -> Tuple[FaceState, List[Cue]]:
-        """`tick` for a frame loop that must not wait: never compiles, never waits for the lock; while
-        a worker is busy, or a step it has to take is due, the face plays on and the cues wait."""
+    def catch_up(self, now: float) -> List[Cue]:
+        """`tick`'s time passing and cues due, for a frame loop that never waits: no compile, no wait for
+        the lock (while a worker is busy, or a step it must take is due, time and the cues wait)."""
         cues: List[Cue] = []
         if self.lock.acquire(blocking=False):
             try:
@@ -148,7 +148,7 @@ class LiveSession:
                     cues, self.cues = self.cues + self.face.due(now), []
             finally:
                 self.lock.release()
-        return self.face.state(now), cues
+        return cues
 
     @property
     def free(self) -> bool:

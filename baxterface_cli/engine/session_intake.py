@@ -5,7 +5,7 @@ and compiled on a thread of its own. Commands and events come in from any thread
 the screen's requests), stamped with the clock as they arrive; the worker
 parses, hands them to the session in the order they came, and advances the session whenever
 something falls due (a step's end, a timeout, `every`, `idle`), compiling each step there. The
-frame loop reads the face with `LiveSession.frame`, which never compiles.
+frame loop lets time pass with `LiveSession.catch_up` and reads the face, neither of which compiles.
 
 What waits is bounded, and nothing is lost unsaid. Commands are read in the order they came. A
 command that takes over, read while a later one waits, would be replaced the moment it started:

@@ -149,7 +149,8 @@ class FaceLoop:
             now = time.monotonic()
             took = self._take_commands(now)
             self.senses.check(now)
-            face, cues = self.session.frame(now)
+            cues = self.session.catch_up(now)
+            face = self.live.state(now)
             for cue in cues:
                 self.robot.take(cue.effect, now)
             self.senses.watch_camera()

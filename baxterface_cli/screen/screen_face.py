@@ -14,9 +14,10 @@ through the session, statement by statement, so a handler can pause it.
 
 The session is advanced as the face node's is: by its intake's worker
 (engine/session_intake.py), which compiles each step (a `say` waits for
-espeak-ng) while the frames are read with `LiveSession.frame`, which never
-compiles and never waits. A request that must answer what it did waits for the
-worker, on its own thread; the lock here guards only what is quick.
+espeak-ng), while the frame pump lets time pass with `step` (`LiveSession.catch_up`,
+which never compiles and never waits) and reads the face with `face(now)`. A
+request that must answer what it did waits for the worker, on its own thread;
+the lock here guards only what is quick.
 """
 
 from __future__ import annotations
@@ -161,21 +162,21 @@ class ScreenFace:
         """`posting`, waited for: the event and what it did."""
         return {"event": in_words(event), **self.posting(event, source).result()}
 
-    def face(self) -> FaceState:
-        """The face to show now: never waits for a step being compiled (the intake's worker takes
-        them), the face goes on as it plays meanwhile."""
+    def step(self, now: float) -> None:
+        """Time passes to `now` (the frame pump's, each turn): the robot's status takes the cues due
+        (following stops the darts, as on the node), the sounds of a step the worker began are kept."""
         with self.lock:
-            # The robot's status (following stops the darts) is folded in by the frame, as on the node.
-            state, _ = self.session.frame(self.clock())
+            self.session.catch_up(now)
             self._keep_sounds()
-            return state
 
-    def status(self) -> Dict[str, Any]:
+    def face(self, now: float) -> FaceState:
+        """The face at `now`: a read, which moves no clock and takes no cue (`step` does). Never
+        waits for a step being compiled (the intake's worker takes them): the face plays on."""
+        return self.live.state(now)
+
+    def status(self, now: float) -> Dict[str, Any]:
         """What the pages need beside the frames: the position in what plays, and what is heard now."""
-        with self.lock:
-            self._keep_sounds()  # a step the worker began since the last frame
-            timeline, started = self.live.timeline, self.live.started
-            now = self.clock()
+        timeline, started = self.live.playing
         t = now - started
         heard = [{"key": sound_key(s.utterance), "at": round(s.at, 3)} for s in timeline.sounding(t)]
         return {"kind": "status", "t": round(t, 3), "playing": True, "sounds": heard}
@@ -183,10 +184,11 @@ class ScreenFace:
     def state(self) -> Dict[str, Any]:
         """The face and what it is doing, for `GET /api/state`: once what was sent before is in."""
         self.intake.settled(SETTLING)
-        face = self.face()
+        now = self.clock()
+        self.step(now)
+        face = self.face(now)
         with self.lock:
             timeline, started, robot = self.live.timeline, self.live.started, self.live.robot
-            now = self.clock()
             waiting = self._first is not None or self._first_reacting is not None
             reacting = self._reacting()
         t = now - started

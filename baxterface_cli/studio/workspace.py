@@ -349,9 +349,9 @@ class Workspace(Reacting):
                 raise ValueError(f"unknown transport action {action!r}; use play, pause, seek or loop")
             return self.preview.status(now)
 
-    def status(self) -> Dict[str, Any]:
+    def status(self, now: float) -> Dict[str, Any]:
         with self.lock:
-            status = self.preview.status(self.clock())
+            status = self.preview.status(now)
         status["note"] = self.preview_note
         return status
 
@@ -363,10 +363,13 @@ class Workspace(Reacting):
             return None
         return wav_file(utterance)
 
-    def face(self):
-        """The face to show now (an immutable FaceState)."""
+    def step(self, now: float) -> None:
+        """Nothing here moves with time by itself: the preview is sampled where its transport says."""
+
+    def face(self, now: float):
+        """The face to show at `now` (an immutable FaceState): a read."""
         with self.lock:
-            return self.preview.at(self.clock())[1]
+            return self.preview.at(now)[1]
 
     # -- the session
 
@@ -439,6 +442,6 @@ class Workspace(Reacting):
             "buttons": [b.as_json() for b in self.buttons],
             "timeline": self.timeline(),
             "session": self.session(whole=True),
-            "status": self.status(),
+            "status": self.status(self.clock()),
             "robot_link": self.robot.as_json(),
         }

@@ -221,7 +221,13 @@ class FaceApi:
             x, y = (float(v) for v in where)
         except OverflowError:  # an integer of hundreds of digits: JSON has no bound on them
             raise BadRequest(usage) from None
-        place = await run_in_threadpool(lambda: self.frames.place(self.shown.face(), x, y))
+        # The frame last drawn is what was tapped on: where the tap lands is read from its places
+        # here, no face computed again, and the event goes straight to what shows the face.
+        drawn = self.frames.drawn if self.pages.open else None
+        if drawn is not None:
+            place = drawn.place(x, y)
+        else:  # no page open (a tap posted by hand): on the face now
+            place = await run_in_threadpool(lambda: self.frames.place(self.face_now(), x, y))
         return await self.raised(n.Event("touch", place), "a tap on the page")
 
     async def raised(self, event: n.Event, source: str) -> Response:
@@ -297,7 +303,7 @@ class FaceApi:
 
     @answered
     async def frame(self, request: Request) -> Response:
-        jpeg = await run_in_threadpool(self.frames.jpeg, self.shown.face())
+        jpeg = await run_in_threadpool(lambda: self.frames.jpeg(self.face_now()))
         return Response(jpeg, media_type="image/jpeg", headers={"cache-control": "no-store"})
 
     @answered
@@ -315,13 +321,14 @@ class FaceApi:
         self.opened()
         transport = transport_of(websocket.scope)
         sent = self.pages.frames_sent
-        jpeg = await run_in_threadpool(self.frames.jpeg, self.shown.face())
+        jpeg = await run_in_threadpool(lambda: self.frames.jpeg(self.face_now()))
         # A frame the pump sent meanwhile is newer than this one: that one, then.
         first = self.pages.frame if self.pages.frames_sent != sent else message(BINARY, jpeg)
         if transport.is_closing():
             return
         transport.write(first)
-        transport.write(message(TEXT, json.dumps(self.shown.status()).encode("utf-8")))
+        status = self.shown.status(self.shown.clock())
+        transport.write(message(TEXT, json.dumps(status).encode("utf-8")))
         self.pages.add(transport)
         try:
             # A page that closes is noticed at once, not at the next message sent to it (the close
@@ -329,6 +336,12 @@ class FaceApi:
             await _closed(websocket)
         finally:
             self.pages.remove(transport)
+
+    def face_now(self) -> Any:
+        """The face now, time passed to now first (with no page open, the pump lets none pass)."""
+        now = self.shown.clock()
+        self.shown.step(now)
+        return self.shown.face(now)
 
     async def not_here(self, request: Request, exc: Exception) -> Response:
         """Starlette's own 404 and 405, answered in JSON like the rest and logged."""

@@ -18,6 +18,7 @@ from typing import Any, Callable, Dict, List, Optional, Protocol
 import numpy as np
 
 from ..drawing.renderer import Renderer
+from ..drawing.touch_places import TouchMap
 from ..engine.change_polling import ChangePolling
 from .pages import Pages
 
@@ -28,11 +29,19 @@ EARLY = 0.0005  # seconds a timer may wake before its time (the clock's grain) a
 
 
 class Shown(Protocol):
-    """What the pages show: the studio's workspace, or the screen's live face."""
+    """What the pages show: the studio's workspace, or the screen's live face, on its own clock.
 
-    def face(self) -> Any: ...
+    The pump lets time pass (`step`), then reads the face and the status at that time: reads,
+    which move nothing.
+    """
 
-    def status(self) -> Dict[str, Any]: ...
+    clock: Callable[[], float]
+
+    def step(self, now: float) -> None: ...
+
+    def face(self, now: float) -> Any: ...
+
+    def status(self, now: float) -> Dict[str, Any]: ...
 
 
 class Frames:
@@ -43,6 +52,7 @@ class Frames:
         self.lock = threading.Lock()
         self.last_key: Any = None
         self.last_jpeg = b""
+        self.drawn: Optional[TouchMap] = None  # the places on the last frame drawn, for a tap on it
 
     def key(self, state: Any) -> Any:
         """Equal for two states exactly when their frames are the same (the renderer's frame key)."""
@@ -52,10 +62,8 @@ class Frames:
     def place(self, state: Any, x: float, y: float) -> str:
         """Where on the face, as drawn for `state`, a tap at (x, y) lands (fractions of the frame):
         a place `touch` names, or "" for anywhere else."""
-        from ..drawing.touch_places import touched_place
-
         with self.lock:
-            return touched_place(self.renderer.layers, state, x, y)
+            return TouchMap(self.renderer.layers, state).place(x, y)
 
     def jpeg(self, state: Any) -> bytes:
         from PIL import Image
@@ -72,6 +80,7 @@ class Frames:
             out = io.BytesIO()
             image.save(out, "JPEG", quality=JPEG_QUALITY)
             self.last_key, self.last_jpeg = key, out.getvalue()
+            self.drawn = TouchMap(self.renderer.layers, state)
             return self.last_jpeg
 
 
@@ -150,8 +159,10 @@ class Pump:
                 # then (face_api.py), as the first page always was, before the pump started.
                 pages.catch_up()  # a page that was still sending the last frame is sent the newest
                 if pages.open:
+                    at_clock = shown.clock()
+                    shown.step(at_clock)
                     # A command wakes the pump at once; a flood of them must not draw more often.
-                    face = shown.face() if now >= next_frame - EARLY else None
+                    face = shown.face(at_clock) if now >= next_frame - EARLY else None
                     key = self.frames.key(face) if face is not None else drawn
                     if key != drawn:  # a new state may still draw the same frame: none is sent
                         pages.send(await run_in_threadpool(self.frames.jpeg, face))
@@ -160,7 +171,7 @@ class Pump:
                         # From when this look was due, not when the loop got to it: frames at the
                         # ticks keep the ticks' rhythm.
                         next_frame = min(at, now) + period
-                    status = shown.status()
+                    status = shown.status(at_clock)
                     # A sound that starts or stops is told at once: the page plays it in step with the frames.
                     if now - last_status >= self.status_every or status["sounds"] != heard:
                         pages.send(status)

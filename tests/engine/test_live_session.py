@@ -172,7 +172,7 @@ def test_the_old_nodes_commands_cut_on_the_session_as_the_old_node_did():
     # A legacy command's step keeps its legacy mark: no crossfade, one changed frame, not 0.2 s of them.
     session = LiveSession(idle=False, now=0.0)
     session.run(parse("skin_3", "display_chatter"), 1.0)
-    shown = session.frame(1.01)[0]
+    shown = session.face.state(1.01)
     assert shown.skin == 3 and shown.fade == 1.0 and shown.pictured_from is None
 
 

@@ -49,7 +49,7 @@ def test_a_handler_sent_installs_itself_and_a_signal_sent_runs_it(live):
     eventually(lambda: runs(session, "line 1 'on signal poke'") == 1)
     assert session.face.timeline is not before
     clock.now += 5.0
-    assert session.frame(clock.now)[0].emotion == "happy"
+    assert session.face.state(clock.now).emotion == "happy"
 
 
 def test_a_handler_sent_twice_replaces_the_first_and_says_so(live):
@@ -103,7 +103,7 @@ def test_a_plain_command_takes_over_and_a_queued_one_waits_for_the_main_script(l
     intake.post(n.Event("signal", "tick"))
     eventually(lambda: not intake.waiting)
     clock.now += 2.0
-    assert session.frame(clock.now)[0].emotion == "happy"
+    assert session.face.state(clock.now).emotion == "happy"
 
 
 def test_a_bad_command_is_one_line_and_the_next_one_runs(live):
@@ -146,8 +146,8 @@ def test_the_frame_loop_never_waits_for_the_worker(live):
     thread.start()
     held.wait(30)
     try:
-        state, cues = session.frame(clock.now)  # returns at once, the face as it plays
-        assert state is not None and cues == []
+        assert session.catch_up(clock.now) == []  # returns at once, the cues wait
+        assert session.face.state(clock.now) is not None  # the face as it plays
     finally:
         release.set()
         thread.join()

@@ -76,5 +76,5 @@ def test_the_node_intake_takes_over_the_same_way():
         send("sad")
         now[0] = 2.1
         send("wink left")
-        shown = session.frame(5.0)[0]
+        shown = session.face.state(5.0)
     assert shown.emotion == "sad" and shown.skin == EMOTIONS["sad"].skin

@@ -67,10 +67,10 @@ def test_the_live_session_runs_a_gesture_sent_as_a_command():
     from baxterface_cli.engine.live_session import LiveSession
 
     session = LiveSession(idle=False, now=0.0)
-    before = session.frame(0.5)[0]
+    before = session.face.state(0.5)
     session.run(parse("surprise", "<command>"), 1.0)
-    assert session.frame(1.5)[0].expression != before.expression
-    assert session.frame(4.0)[0].expression == before.expression
+    assert session.face.state(1.5).expression != before.expression
+    assert session.face.state(4.0).expression == before.expression
 
 
 def test_use_brings_another_files_defines_relative_to_the_script(tmp_path):

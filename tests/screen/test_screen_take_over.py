@@ -23,6 +23,6 @@ def test_happy_sad_then_a_wink_a_tenth_later_shows_sad_as_the_state_says():
     clock.now += 0.1
     face.command("wink left")
     clock.now += 2.0
-    shown = face.face()
+    shown = face.face(clock.now)
     assert shown.emotion == "sad"
     assert shown.skin == EMOTIONS["sad"].skin and (shown.mouth, shown.brows) in EMOTIONS["sad"].variants

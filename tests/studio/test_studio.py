@@ -184,7 +184,9 @@ def test_a_press_compiles_without_holding_the_preview_still(tmp_path, monkeypatc
     press.start()
     assert compiling.wait(30)
     shown = []
-    reader = threading.Thread(target=lambda: shown.extend([workspace.face(), workspace.status()]))
+    reader = threading.Thread(
+        target=lambda: shown.extend([workspace.face(workspace.clock()), workspace.status(workspace.clock())])
+    )
     reader.start()
     reader.join(10)
     try:

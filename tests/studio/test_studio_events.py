@@ -39,12 +39,12 @@ def test_the_preview_shows_what_render_with_the_fired_events_would(tmp_path):
     expected = run_over(parse(GREETER, "greeter.face"), trace, seed=7).timeline
     for t in (0.2, 0.6, 1.0, 2.0, 3.0):
         clock.now = 100.0 + (t - 0.5)  # the preview plays on from the event
-        assert workspace.face() == expected.sample(t), t
+        assert workspace.face(workspace.clock()) == expected.sample(t), t
     clock.now = 100.0 + 0.3
-    assert workspace.face().emotion == "happy"
+    assert workspace.face(workspace.clock()).emotion == "happy"
     workspace.clear_session()
     assert workspace.timeline()["fired"] == 0
-    assert workspace.face().emotion == "sad"  # the script as it plays without any event
+    assert workspace.face(workspace.clock()).emotion == "sad"  # the script as it plays without any event
 
 
 def test_events_fired_at_a_real_studio_play_and_export_with_the_script(tmp_path):

@@ -57,7 +57,7 @@ def test_hundreds_of_events_fired_and_some_sought_back_play_as_render_plays_them
     rng = random.Random(5)
     for i in range(240):  # more than the 200 a session used to hold, and past chapters of 64
         if i % 25 == 24:  # seek back among the events fired before, and fire there
-            workspace.transport("seek", rng.uniform(0, workspace.status()["t"]))
+            workspace.transport("seek", rng.uniform(0, workspace.status(workspace.clock())["t"]))
         clock.now += rng.uniform(0.0, 1.2)
         workspace.event(lines[rng.randrange(3)])
     whole = workspace.timeline()["spans"]
@@ -65,7 +65,7 @@ def test_hundreds_of_events_fired_and_some_sought_back_play_as_render_plays_them
     shown = workspace.timeline()  # the page lists the spans around the position, not the whole run
     assert len(shown["spans"]) == 40 < len(whole) and shown["spans_before"] > 0
     assert whole[shown["spans_before"] : shown["spans_before"] + 40] == shown["spans"]
-    assert shown["spans"][0]["start"] <= workspace.status()["t"] <= shown["spans"][-1]["end"]
+    assert shown["spans"][0]["start"] <= workspace.status(workspace.clock())["t"] <= shown["spans"][-1]["end"]
     preview = workspace.preview
     expected, run = rendered(parse(GREETER, "greeter.face"), preview.events, 3, idle=True)
     assert preview.duration == expected.duration
