@@ -2,11 +2,11 @@
 
 A frame of the face is a JPEG of some 40 KB. Sent through each page's ASGI connection, a frame
 cost every page a queue, a task, a copy and, when the page asked for it, a deflate (which does not
-shrink a JPEG): a command's frame reached the last of 500 pages 1.2 to 2.7 s later (p95). Here the WebSocket message is
-built once and written straight to each page's transport, which the server puts in the
-connection's scope (`page_protocol`). A page still sending the last frame skips to the newest
-one once it has sent it, at the pump's next turn; messages (status, changes on disk) are never
-skipped; a page that has read nothing for `MOST_BUFFERED` bytes is closed (it opens again by
+shrink a JPEG): a command's frame reached the last of 500 pages 1.2 to 2.7 s later (p95). Here the
+WebSocket message is built once and written straight to each page's transport, which the server
+puts in the connection's scope (`page_protocol`). A page still sending the last frame skips to the
+newest one once it has sent it, at the pump's next turn; messages (status, changes on disk) are
+never skipped; a page that has read nothing for `MOST_BUFFERED` bytes is closed (it opens again by
 itself).
 """
 
