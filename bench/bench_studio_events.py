@@ -5,7 +5,12 @@ ran again over all the events so far at each one; that is measured here too, in 
 (the same machine, the same load), by running the script over the first 1, 200 and 2,000 events
 as the studio used to. No server: the workspace directly, on a clock of its own, so the figures
 are the work alone, with the preview's idle life on (its blinks are planned over the whole run).
-Memory: the process's resident size before and after the session's events. Run:
+Memory: the process's resident size before and after the session's events.
+
+Then an edit of the script at the last event (`Workspace.update`, as the editor sends it): a
+handler added for an event the session has not had (`on face seen`), which the run goes on with
+from its last checkpoint; against the same edit run again over every event (`EventRun.start`, as
+the studio did), in the same run. Run:
 
     .venv/bin/python bench/bench_studio_events.py [--events 2000] [--no-idle]
 """
@@ -25,7 +30,7 @@ from baxterface_cli.engine.session_run import NeverRests, run_over
 from baxterface_cli.language.event_line import read_event_line
 from baxterface_cli.language.event_trace import Trace
 from baxterface_cli.language.parser import parse
-from baxterface_cli.studio.event_run import WINDOW
+from baxterface_cli.studio.event_run import WINDOW, EventRun
 from baxterface_cli.studio.workspace import Workspace
 
 GREETER = (
@@ -99,7 +104,32 @@ def main() -> int:
         f"memory: {grown:.1f} MB more resident after {count} events ({grown * 1024 / count:.1f} KB an event)"
     )
     print(f"(peak resident size {resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024:.0f} MB)")
+    edit(workspace, count)
     return 0
+
+
+EDIT = GREETER + "on face seen {\n  happy\n}\n"
+
+
+def edit(workspace: Workspace, count: int) -> None:
+    """The edit at the last event: gone on with (now) against run again over every event (before)."""
+    now, again = [], []
+    events = tuple(workspace.preview.events)
+    for i in range(3):
+        text = EDIT if i % 2 == 0 else GREETER  # back and forth: each one an edit of the last
+        started = time.perf_counter()
+        answer = workspace.update(text)
+        now.append(time.perf_counter() - started)
+        assert answer["diagnostics"] == [], answer
+        started = time.perf_counter()
+        EventRun.start(
+            parse(text, "greeter.face"), workspace.preview.seed, workspace.preview.recordings, events
+        )
+        again.append(time.perf_counter() - started)
+    fast, slow = statistics.median(now), statistics.median(again)
+    print(f"an edit at the {count}th event (a handler added for an event not fired yet), the median of 3:")
+    print(f"  now (gone on from the last checkpoint) {fast * 1000:8.1f} ms")
+    print(f"  before (run again over every event)    {slow * 1000:8.1f} ms  -> {slow / fast:.1f}x faster")
 
 
 if __name__ == "__main__":

@@ -15,15 +15,17 @@ not copy its history at every event.
 from __future__ import annotations
 
 import copy
+import dataclasses
 import random
 import threading
 from collections import deque
-from typing import Dict, Optional
+from typing import Dict, List, Optional
 
+from ..language import syntax_tree as n
 from .effects import StatusFold
 from .live_face import LiveFace
 from .live_session import LiveSession
-from .session_handlers import by_kind
+from .session_handlers import by_kind, install
 from .session_program import Runner, _Frame
 from .session_records import Handler, Run, SessionLog
 
@@ -85,6 +87,47 @@ def fork(session: LiveSession) -> LiveSession:
         twin.states = session.states.copy()
         twin._starts = copy.copy(session._starts)
         return twin
+
+
+def rebase(session: LiveSession, script: n.Script) -> LiveSession:
+    """A copy of `session` that goes on with `script`'s handlers: each of its own kept where
+    `script` has the same `on` (its counts, and a run of it under way, with it), the others
+    installed anew, in the order a run of `script` from its start installs them. Only for a
+    `script` that differs from the session's in handlers no event has reached yet: the studio's
+    edit (studio/event_run.py says which); ScriptError past the handlers' bounds, as that run."""
+    twin = fork(session)
+    fresh, _ = install([], script)
+    old: List[Handler] = list(twin.handlers)
+    handlers = []
+    for new in fresh:
+        same = next((h for h in old if exactly(h.on, new.on) and h.state == new.state), None)
+        if same is not None:
+            old.remove(same)
+        handlers.append(same or new)
+    twin.handlers, twin._kinds = handlers, by_kind(handlers)
+    return twin
+
+
+def exactly(a: object, b: object) -> bool:
+    """Equal, places in the text too (a node's `==` leaves them out): what a run shows of a
+    statement (its line, in the studio's timeline and the session's log) is the same."""
+    return a == b and _places(a) == _places(b)
+
+
+def _places(node: object) -> List[object]:
+    found, stack = [], [node]
+    while stack:
+        item = stack.pop()
+        if isinstance(item, (tuple, list)):
+            stack.extend(item)
+        elif dataclasses.is_dataclass(item):
+            for f in dataclasses.fields(item):
+                value = getattr(item, f.name)
+                if f.name == "pos":
+                    found.append((value.line, value.column))
+                else:
+                    stack.append(value)
+    return found
 
 
 def _face(face: LiveFace) -> LiveFace:

@@ -11,6 +11,11 @@ to the bit: the same calls, in the same order, on an exact copy.
 
 An event fired earlier than the last (the preview sought back) continues from the nearest kept
 checkpoint before it, one every `EVERY` events, running on over the events after it.
+
+An edit of the script (`edited`) whose change no event has yet reached, only handlers changed,
+added or dropped, continues likewise from the nearest checkpoint before the first event one of them
+takes, the checkpoints given the new script's handlers (engine/session_fork.py's `rebase`): the
+run before it is the same, call for call. Any other edit runs the script again from the start.
 """
 
 from __future__ import annotations
@@ -19,11 +24,13 @@ import bisect
 from typing import TYPE_CHECKING, Dict, List, NamedTuple, Optional, Tuple
 
 from ..engine.live_session import LiveSession
-from ..engine.session_fork import fork
+from ..engine.session_fork import exactly, fork, rebase
 from ..engine.session_run import NeverRests, run_end, settle
 from ..engine.stitched import Segments
 from ..language import syntax_tree as n
+from ..language.checker import walk
 from ..language.event_trace import Posted
+from ..language.events import TIMERS, matches
 from .chained import Chained, Chapters, chained
 
 if TYPE_CHECKING:
@@ -37,6 +44,7 @@ class Checkpoint(NamedTuple):
     posted: int  # the run's first `posted` events are in it
     session: LiveSession  # just after them: only copies of it go on
     segments: int  # the timelines it had played by then
+    script: n.Script  # whose handlers the session holds: a run of an edit of it goes on with its own
 
 
 class EventRun:
@@ -75,7 +83,7 @@ class EventRun:
         # As run_over makes it: the same session, given the same calls.
         session = LiveSession(script, seed=seed, idle=False, recordings=recordings, record=True, log_lines=0)
         played, session.segments = list(session.segments or ()), []
-        first = (Checkpoint(0, session, len(played)),)
+        first = (Checkpoint(0, session, len(played), script),)
         run = cls(script, seed, recordings, (), played, first, Chapters(), shown=not events)
         return run._continued(run.checkpoints[0], list(events)) if events else run
 
@@ -87,9 +95,25 @@ class EventRun:
         since = next(c for c in reversed(self.checkpoints) if c.posted <= i)
         return self._continued(since, events)
 
+    def edited(self, script: n.Script) -> EventRun:
+        """`script` (the script edited) run over these events: from the start, or on from the last
+        checkpoint the edit does not reach (see the module's docstring)."""
+        reached = unreached(self.script, script, self.events)
+        kept = tuple(c for c in self.checkpoints if c.posted <= reached)
+        if reached == 0 or len(kept) < 2:
+            return EventRun.start(script, self.seed, self.recordings, self.events)
+        # The checkpoints kept go on with the edit's handlers when one is used (`_continued`): what
+        # the edits since a checkpoint's script changed, no event before it reached.
+        run = EventRun(
+            script, self.seed, self.recordings, self.events, self.played, kept, self.chapters, False
+        )
+        return run._continued(kept[-1], list(self.events))
+
     def _continued(self, since: Checkpoint, events: List[Posted]) -> EventRun:
         """The run from the checkpoint `since` on over the rest of `events` (the first
         `since.posted` of them are in it already)."""
+        if since.script is not self.script:  # kept through an edit: with the edit's handlers now
+            since = since._replace(session=rebase(since.session, self.script), script=self.script)
         session = fork(since.session)
         played = list(self.played[: since.segments])
         checkpoints = [c for c in self.checkpoints if c.posted < since.posted] + [since]
@@ -99,7 +123,7 @@ class EventRun:
             played += session.segments  # type: ignore[operator]
             session.segments = []
             if (k + 1) % EVERY == 0 or k + 1 == len(events):
-                checkpoints.append(Checkpoint(k + 1, session, len(played)))
+                checkpoints.append(Checkpoint(k + 1, session, len(played), self.script))
                 if k + 1 < len(events):
                     session = fork(session)
         # One every EVERY events, and the last: the run goes on from there.
@@ -126,3 +150,25 @@ class EventRun:
         counts = tail.counts().values()
         totals = {key: sum(c[key] for c in counts) for key in ("runs", "dropped", "queued")}
         return chained(self.chapters, segments, end), totals
+
+
+def unreached(old: n.Script, new: n.Script, events: Tuple[Posted, ...]) -> int:
+    """How many of `events` come before the edit from `old` to `new` can change the run: all of
+    them when none can; 0 when it may change it from the start (anything but handlers changed,
+    a timer's handler, or a signal's that a statement raises, whose time no events file says)."""
+    rest = [[s for s in script.body if not isinstance(s, n.On)] for script in (old, new)]
+    if not exactly(*rest) or old.legacy != new.legacy:
+        return 0
+    ons = [[s for s in script.body if isinstance(s, n.On)] for script in (old, new)]
+    kept = [
+        [on for on in mine if any(exactly(on, other) for other in theirs)]
+        for mine, theirs in (ons, ons[::-1])
+    ]
+    if not exactly(*kept):  # the handlers kept in another order: which one takes an event first changes
+        return 0
+    changed = [on.event for mine, same in zip(ons, kept) for on in mine if not any(on is k for k in same)]
+    raised = {s.name for script in (old, new) for s in walk(script.body) if isinstance(s, n.Signal)}
+    for event in changed:
+        if event.kind in TIMERS or any(matches(event, n.Event("signal", name)) for name in raised):
+            return 0
+    return next((k for k, e in enumerate(events) if any(matches(c, e.event) for c in changed)), len(events))

@@ -74,7 +74,11 @@ def animation(
     """`script` played as the `preview` (preview.py's, which imports this) plays it: the live
     session's run over `events`, as `render --events` makes it, kept to be continued. And what its
     handlers did: runs, dropped and queued in all."""
-    run = EventRun.start(script, preview.seed, preview.recordings, tuple(events))
+    kept: Optional[EventRun] = preview.run  # the run shown: an edit goes on from where it reaches it
+    if kept is not None and list(kept.events) == events and kept.seed == preview.seed:
+        run = kept.edited(script)
+    else:
+        run = EventRun.start(script, preview.seed, preview.recordings, tuple(events))
     return Animation(run.timeline, preview.idle, preview.seed), run.counts, run  # type: ignore[arg-type]
 
 
