@@ -1,6 +1,7 @@
 """The screen in headless chromium: how soon a command shows, and what the face costs the network.
 
-    python bench/bench_screen.py [--runs 60] [--seconds 10] [--pages 500] [--before REV] [--pages-only]
+    python bench/bench_screen.py [--runs 60] [--seconds 10] [--pages 500] [--page-runs 10] [--before REV]
+                                 [--pages-only]
 
 1. A command to the first changed frame on the page (idle off, so nothing
    else changes the face): the page posts `look left in 0.4s` (then right) to
@@ -152,11 +153,12 @@ def main() -> None:
     parser.add_argument("--runs", type=int, default=60)
     parser.add_argument("--seconds", type=float, default=10.0)
     parser.add_argument("--pages", type=int, default=500)
+    parser.add_argument("--page-runs", type=int, default=10, help="commands timed at the many pages")
     parser.add_argument("--before", default=BEFORE, help="the tree to compare the many pages with")
     parser.add_argument("--pages-only", action="store_true", help="only the many pages (no browser)")
     options = parser.parse_args()
     if options.pages:
-        pages(options.pages, options.runs if options.runs != 60 else 10, options.before)
+        pages(options.pages, options.page_runs, options.before)
     if not options.pages_only:
         browser(options)
 
