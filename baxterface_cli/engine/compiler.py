@@ -308,24 +308,25 @@ class _Compiler:
         return t
 
     def do_say(self, s: n.Say, t: float) -> float:
-        from ..speech.visemes import mouth_track
+        from ..speech.natural_voices import mouth
 
         if s.file is not None:
             if self.recordings is None:
                 from ..speech.recordings import Recordings
 
                 self.recordings = Recordings.for_script(self.filename)
-            utterance, mouth = self.recordings.recite(s)
+            utterance, keys = self.recordings.recite(s)
         else:
             from ..speech.espeak_process import SynthesisFailed
+            from ..speech.natural_voices import VoiceMissing
             from ..speech.recordings import RecordingError
 
             try:
                 utterance = self.speak(s.text, s.voice, s.rate)
-            except SynthesisFailed as e:  # espeak-ng crashed on this text: this `say` cannot be said
-                raise RecordingError(str(e), s) from None
-            mouth = mouth_track(utterance)
-        said = Said(t, utterance, mouth)
+            except (SynthesisFailed, VoiceMissing) as e:  # espeak-ng crashed on this text, or the
+                raise RecordingError(str(e), s) from None  # voice is not installed: this `say` cannot be said
+            keys = mouth(utterance)
+        said = Said(t, utterance, keys)
         self.later(t, lambda at: self.speech.append(said))
         self.cue(t, fx.Speech(utterance))
         return t + utterance.duration
@@ -414,7 +415,13 @@ def compile_script(
 
 
 def _engine_say(text: str, voice: Optional[str], rate: Optional[int]) -> Utterance:
-    from ..core.voices import DEFAULT_RATE, DEFAULT_VOICE
+    from ..core.voices import DEFAULT_RATE, DEFAULT_VOICE, natural
+
+    voice, rate = voice or DEFAULT_VOICE, rate or DEFAULT_RATE
+    if natural(voice):
+        from ..speech import natural_voices
+
+        return natural_voices.say(text, voice, rate)
     from ..speech.synthesis import engine
 
-    return engine().say(text, voice or DEFAULT_VOICE, rate or DEFAULT_RATE)
+    return engine().say(text, voice, rate)

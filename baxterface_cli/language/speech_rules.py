@@ -12,7 +12,7 @@ from typing import Any, Dict, List, Optional, Tuple
 from lark import Token
 
 from ..core.face_constants import LIMITS
-from ..core.voices import RATES, known_voice, voice_names
+from ..core.voices import RATES, known_voice, natural, voice_names
 from . import syntax_tree as n
 from .diagnostics import Diagnostic
 
@@ -85,6 +85,9 @@ class SpeechRules:
     def _voice_name(self, token: Token, what: str) -> Optional[str]:
         """A voice's name (a language is named as espeak-ng's voices for it are); None if unknown."""
         name = str(token).lower()
+        if what == "language" and natural(name):
+            self._error(token, f"'{token}' is a voice, not a language; 'baxterface voices' lists them")
+            return None
         if not known_voice(name):
             hint = self.hints(name, voice_names()) or "; 'baxterface voices' lists them"
             self._error(token, f"unknown {what} '{token}'{hint}")

@@ -149,6 +149,11 @@ def read_sound(path: str, seconds: float = READ_SECONDS) -> Sound:
     return Sound(samples, rate, heard)
 
 
+def analysis_sound(samples: np.ndarray, rate: int) -> np.ndarray:
+    """int16 mono `samples` at `rate` brought to ANALYSIS_RATE, read-only (PyAV resamples)."""
+    return _joined(_resampled(_av(), samples, rate, ANALYSIS_RATE))
+
+
 def _resampled(av: Any, samples: np.ndarray, rate: int, wanted: int) -> List[np.ndarray]:
     """int16 mono `samples` at `wanted` a second, by FFmpeg's resampler (filtered, unlike a line's)."""
     out = av.AudioResampler(format="s16", layout="mono", rate=wanted)

@@ -234,7 +234,7 @@ class Recordings:
             kept = _kept_name(folder, heard.digest, method, say.language, text)
             found = _read_kept(kept)
             if found is None:
-                aligned = phones_heard.align(sound.analysis, text, _spell)
+                aligned = phones_heard.align(sound.analysis, text, spell)
                 found = UNALIGNED
                 if aligned is not None:
                     phonemes = espeak_phonemes(aligned.phones, sound.analysis, ANALYSIS_RATE)
@@ -261,7 +261,7 @@ class Recordings:
             recognise = None
             if method == "recognised":
                 recognise = functools.partial(phoneme_recogniser.recognise, english=english)
-            said = phones_heard.hear(sound.analysis, "", _spell, recognise)
+            said = phones_heard.hear(sound.analysis, "", spell, recognise)
             phonemes = espeak_phonemes(said.phones, sound.analysis, ANALYSIS_RATE)
             found = phonemes, (), "recognised" if said.recognised else "heard"
         _keep(folder, kept, found)
@@ -407,7 +407,7 @@ def _read_kept(path: Path) -> Union[None, Analysis, str]:
     return phonemes, words, method
 
 
-def _spell(word: str) -> Optional[List[str]]:
+def spell(word: str) -> Optional[List[str]]:
     """pocketsphinx's phones for a word its dictionary lacks, as espeak-ng (American) says it."""
     from ..extras import MissingTool
     from .synthesis import engine
