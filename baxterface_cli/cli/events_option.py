@@ -4,6 +4,8 @@ that reacts, run by the live session over an events file and the words heard in 
 
 from __future__ import annotations
 
+import os
+import re
 from typing import Any, Callable, List, Optional, Tuple, TypeVar
 
 import typer
@@ -25,9 +27,11 @@ EVENTS_OPT = typer.Option(
 HEAR_OPT = typer.Option(
     None,
     "--hear",
-    metavar="FILE.wav",
-    help="A recording: the script's 'word' phrases heard in it are events at the times they end.",
+    metavar="FILE.wav[@T]",
+    help="A recording, starting T seconds in (FILE.wav@8s; 0 by default): the script's 'word' phrases "
+    "heard in it are events at the times they end; render mixes it into the sound.",
 )
+PLACED = re.compile(r"(?P<path>.+)@(?P<start>[0-9]+(?:\.[0-9]+)?)s?")
 LISTEN_OPT = typer.Option(
     False, "--listen", help="Hear the script's 'on word' phrases from this machine's microphone."
 )
@@ -107,6 +111,7 @@ def heard_words(script: Script, path: str, command: str) -> List[Tuple[float, An
     from ..speech.audio_files import AudioError
 
     words = phrases_wanted(script, command, "--hear")
+    path, start = placed(path, command)
     try:
         from ..speech.word_spotter import WordError, spot_file
 
@@ -117,7 +122,34 @@ def heard_words(script: Script, path: str, command: str) -> List[Tuple[float, An
         raise fail(f"baxterface {command}: --hear: {e}", 2) from None
     except AudioError as e:
         raise fail(f"baxterface {command}: --hear: {path}: {e}") from None
-    return [(h.at, Event("word", h.word)) for h in heard]
+    return [(start + h.at, Event("word", h.word)) for h in heard]
+
+
+def placed(hear: str, command: str) -> Tuple[str, float]:
+    """The recording `--hear` names and when it starts: `FILE.wav@8s` (or `@8`) 8 seconds into the
+    script, a bare `FILE.wav` at its start (a file whose own name ends so is taken whole)."""
+    found = PLACED.fullmatch(hear)
+    if found is None or os.path.exists(hear):
+        return hear, 0.0
+    start = float(found.group("start"))
+    if start > LIMITS.max_seconds:
+        raise fail(f"baxterface {command}: --hear: {hear}: starts past the one-hour limit", 2)
+    return found.group("path"), start
+
+
+def visitor_sound(hear: Optional[str], command: str) -> List[Tuple[float, Any, int]]:
+    """The recording of `--hear`, to mix into a rendered sound: [(when it starts, int16 samples, their
+    rate)], [] without one."""
+    from ..speech.audio_files import AudioError, read_sound
+
+    if hear is None:
+        return []
+    path, start = placed(hear, command)
+    try:
+        sound = read_sound(path)
+    except AudioError as e:
+        raise fail(f"baxterface {command}: --hear: {path}: {e}") from None
+    return [(start, sound.samples, sound.rate)]
 
 
 def handlers_need_events(script: Script, events: Optional[str], command: str) -> None:

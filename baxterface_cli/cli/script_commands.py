@@ -5,7 +5,7 @@ from __future__ import annotations
 import errno
 import json
 import sys
-from typing import TYPE_CHECKING, List, Optional
+from typing import TYPE_CHECKING, List, Optional, Sequence
 
 import typer
 
@@ -31,7 +31,7 @@ from .app import (
     load_script,
     script_from,
 )
-from .events_option import DURATION_OPT, EVENTS_OPT, HEAR_OPT, session_animation
+from .events_option import DURATION_OPT, EVENTS_OPT, HEAR_OPT, session_animation, visitor_sound
 from .finite_numbers import finite
 from .log_replay import annotated, is_log, log_animation
 
@@ -39,6 +39,7 @@ if TYPE_CHECKING:  # imported where used: `check` needs neither drawing nor play
     from ..drawing.renderer import Renderer
     from ..engine.animation import Animation
     from ..robot.rehearsal import Rehearsal
+    from ..speech.soundtrack import Placed
 
 
 def check(
@@ -211,7 +212,9 @@ def render(
                 "showing the last frame"
             )
         renderer = Renderer(fitted_theme(theme, size, "render"))
-        count = _written(animation, renderer, out, fps, at, robot, follow, quiet, drawn)
+        # The visitor's voice beside the face's, in the formats with a sound (the others leave it).
+        visitor = [] if is_log(script_path) else visitor_sound(hear, "render")
+        count = _written(animation, renderer, out, fps, at, robot, follow, quiet, drawn, visitor)
     except KeyboardInterrupt:  # a partial file is gone already: the sink aborted on the way out
         done = f" after {drawn[0]} of {drawn[1]} frames" if drawn[1] else ""
         raise fail(f"baxterface render: stopped{done}; {out} not written", 130) from None
@@ -236,6 +239,7 @@ def _written(
     follow: Optional[Rehearsal],
     quiet: bool,
     drawn: List[int],
+    heard: Sequence[Placed] = (),
 ) -> int:
     """Render to `out`, with a progress bar on a terminal; the frames written, or a one-line failure."""
     from ..export.render_to_file import render as render_to
@@ -246,7 +250,7 @@ def _written(
 
     try:
         if quiet or not sys.stderr.isatty():
-            return render_to(animation, renderer, out, fps, at, counted, robot, follow)
+            return render_to(animation, renderer, out, fps, at, counted, robot, follow, heard)
         from rich.progress import Progress
 
         with Progress(transient=True) as bar:
@@ -256,7 +260,7 @@ def _written(
                 counted(done, total)
                 bar.update(task, completed=done, total=total)
 
-            return render_to(animation, renderer, out, fps, at, shown, robot, follow)
+            return render_to(animation, renderer, out, fps, at, shown, robot, follow, heard)
     except MissingTool as e:
         raise fail(f"baxterface render: {e}") from None
     except FormatError as e:

@@ -3,14 +3,14 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING, Callable, List, Optional
+from typing import TYPE_CHECKING, Callable, List, Optional, Sequence
 
 from ..core.face_state import FaceState
 from ..core.partial_files import remove_stale
 from ..drawing.renderer import Renderer
 from ..engine.animation import Animation
 from ..engine.explanation import frame_times as script_frame_times
-from ..speech.soundtrack import soundtrack
+from ..speech.soundtrack import Placed, soundtrack
 from .registry import Format, format_for
 from .sink import Export
 from .target import check_target
@@ -52,11 +52,13 @@ def render(
     progress: Optional[Progress] = None,
     robot: str = "baxter",
     follow: Optional[Rehearsal] = None,
+    heard: Sequence[Placed] = (),
 ) -> int:
     """Write the animation to `out`; returns the number of frames rendered.
 
     With `follow`, the eyes follow what it was made from (`--follow-from`),
-    frame by frame as `play` shows it.
+    frame by frame as `play` shows it. The sounds `heard` (a visitor's voice) are mixed into the
+    sound with the face's own.
     """
     fmt = format_for(out)
     path = Path(out)
@@ -71,7 +73,7 @@ def render(
         robot=robot,
         frame_at=lambda t: renderer.render(animation.sample(t)),
         palette_times=palette_times(animation),
-        audio=soundtrack(animation.timeline.speech, animation.duration),
+        audio=soundtrack(animation.timeline.speech, animation.duration, heard),
     )
     times = frame_times(fmt, animation, fps, at)
 

@@ -16,15 +16,21 @@ Audio = Tuple[np.ndarray, int]  # mono int16 samples, samples a second
 SILENT_RATE = 22050  # a script that says nothing: espeak-ng's own rate
 
 
-def soundtrack(speech: Sequence, duration: float) -> Optional[Audio]:
-    """The utterances of `speech` (timeline `Said`s) mixed over `duration` seconds; None if silent."""
-    if not speech:
+Placed = Tuple[float, np.ndarray, int]  # when a sound starts, its int16 samples, samples a second
+
+
+def soundtrack(speech: Sequence, duration: float, heard: Sequence[Placed] = ()) -> Optional[Audio]:
+    """The utterances of `speech` (timeline `Said`s), and the sounds `heard` (a visitor's voice,
+    `render --hear`), mixed over `duration` seconds; None if silent."""
+    sounds = [(said.at, said.utterance.samples, said.utterance.sample_rate) for said in speech]
+    sounds += list(heard)
+    if not sounds:
         return None
-    rate = speech[0].utterance.sample_rate
+    rate = sounds[0][2]
     mix = np.zeros(max(1, round(duration * rate)), np.int32)
-    for said in speech:
-        samples = resample(said.utterance.samples, said.utterance.sample_rate, rate)
-        start = round(said.at * rate)
+    for at, sound, sound_rate in sounds:
+        samples = resample(sound, sound_rate, rate)
+        start = round(at * rate)
         piece = samples[: max(0, len(mix) - start)]
         mix[start : start + len(piece)] += piece
     return np.clip(mix, -32768, 32767).astype(np.int16), rate

@@ -29,6 +29,11 @@ def voices():
     return natural_voices
 
 
+def mono(data):
+    """A decoded sound frame's samples, its channels (planar) averaged."""
+    return data.mean(axis=0) if data.ndim == 2 else data
+
+
 def opening(crop):
     """Pixels of mouth inside, tongue or teeth: how open the mouth is."""
     distance = np.linalg.norm(crop[:, :, None, :] - INSIDE[None, None], axis=3).min(axis=2)
@@ -44,7 +49,7 @@ def test_a_natural_voice_renders_a_video_whose_mouth_opens_while_it_sounds(tmp_p
         frames = [(f.time, f.to_ndarray(format="rgb24")) for f in container.decode(video=0)]
     with av.open(str(out)) as container:
         rate = container.streams.audio[0].rate
-        sound = np.concatenate([f.to_ndarray().reshape(-1) for f in container.decode(audio=0)]).astype(float)
+        sound = np.concatenate([mono(f.to_ndarray()) for f in container.decode(audio=0)]).astype(float)
     x0, y0, x1, y1 = BOX
     sounding, silent = [], []
     for at, picture in frames:
