@@ -236,7 +236,7 @@ def _utterance(
     return Utterance(text, voice, rate, samples, sample_rate, phonemes, _words(text, spoken, phonemes))
 
 
-def _written_words(text: str) -> List[Tuple[int, str]]:
+def written_words(text: str) -> List[Tuple[int, str]]:
     """(where it starts, the word) for each run of non-space characters, without the punctuation
     around it ('"Hello,"' is Hello), unless that is all it is."""
     words = []
@@ -258,7 +258,7 @@ def _words(text: str, spoken: List[Tuple[float, int]], phonemes: Tuple[Phoneme, 
     placed between the words around them, by their place in the text, on a phoneme's start.
     Punctuation that is not said ("--", "...") is not a word.
     """
-    written = _written_words(text)
+    written = written_words(text)
     if not written or not phonemes:
         return ()
     starts = [start for start, _ in written]

