@@ -245,9 +245,25 @@ def _terminate(signum: int, frame: object) -> None:
     raise SystemExit(128 + signum)
 
 
+def _check_default_voice() -> None:
+    """A $BAXTERFACE_VOICE that names no voice is one line at the start, whatever the command."""
+    from ..core.voices import VOICE_VARIABLE, default_voice, voice_names
+
+    try:
+        default_voice()
+    except ValueError as e:
+        from ..language.diagnostics import did_you_mean
+
+        name = os.environ.get(VOICE_VARIABLE, "").strip().lower()
+        hint = did_you_mean(name, voice_names()) or "; 'baxterface voices' lists them"
+        typer.echo(f"baxterface: {e}{hint}", err=True)
+        sys.exit(1)
+
+
 def main(argv: Optional[List[str]] = None) -> None:
     """Entry point: run the app, never showing a user a Python traceback."""
     signal.signal(signal.SIGTERM, _terminate)
+    _check_default_voice()
     try:
         command = typer.main.get_command(app)
         named_metavars(command)

@@ -10,6 +10,7 @@ naming one checks without their extra.
 
 from __future__ import annotations
 
+import os
 import re
 from functools import lru_cache
 from typing import Dict, FrozenSet, List, Tuple
@@ -17,6 +18,8 @@ from typing import Dict, FrozenSet, List, Tuple
 from ..resources import resource
 
 DEFAULT_VOICE = "en"
+# The voice of every `say` that names none, where it is set: a name `say` takes (`heart`, `en-us`).
+VOICE_VARIABLE = "BAXTERFACE_VOICE"
 DEFAULT_RATE = 175  # words a minute: espeak-ng's own default
 # espeak-ng speaks from 80 words a minute; from 450 it switches to a speed-up mode
 # whose phoneme times drift (and, in 1.51, which speaks slower than 449).
@@ -72,3 +75,14 @@ def _known() -> FrozenSet[str]:
 
 def known_voice(name: str) -> bool:
     return name.lower() in _known()
+
+
+def default_voice() -> str:
+    """The voice a `say` without `voice` speaks in: $BAXTERFACE_VOICE where it is set, else
+    DEFAULT_VOICE; ValueError for a name `say` does not take (the command line says so at its start)."""
+    name = os.environ.get(VOICE_VARIABLE, "").strip().lower()
+    if not name:
+        return DEFAULT_VOICE
+    if not known_voice(name):
+        raise ValueError(f"{VOICE_VARIABLE}: unknown voice '{name}'")
+    return name

@@ -415,9 +415,9 @@ def compile_script(
 
 
 def _engine_say(text: str, voice: Optional[str], rate: Optional[int]) -> Utterance:
-    from ..core.voices import DEFAULT_RATE, DEFAULT_VOICE, natural
+    from ..core.voices import DEFAULT_RATE, default_voice, natural
 
-    voice, rate = voice or DEFAULT_VOICE, rate or DEFAULT_RATE
+    voice, rate = voice or default_voice(), rate or DEFAULT_RATE
     if natural(voice):
         from ..speech import natural_voices
 

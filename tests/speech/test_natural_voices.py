@@ -5,6 +5,7 @@ without their extra, one error naming it."""
 from __future__ import annotations
 
 import json
+import re
 import wave
 
 import numpy as np
@@ -204,3 +205,16 @@ def test_a_file_that_is_not_an_onnx_model_is_refused():
     for junk in (b"", b"\x3a\x05abc", b"not a model at all"):
         with pytest.raises(ValueError):
             with_output(junk, b"Ceil")
+
+
+def test_the_default_voice_is_set_by_baxterface_voice(voices):
+    import os
+
+    env = dict(os.environ, BAXTERFACE_VOICE="heart")
+    run = baxterface("explain", "-e", 'say "Hi there."; say "Hello." voice en-gb', env=env)
+    assert run.code == 0, run.err
+    assert re.search(r'robot say "Hi there\." \([\d.]+ s, voice heart, 175 words', run.out), run.out
+    assert re.search(r'robot say "Hello\." \([\d.]+ s, voice en-gb, ', run.out), run.out  # a say's own wins
+    run = baxterface("explain", "-e", 'say "Hi"', env=dict(os.environ, BAXTERFACE_VOICE="hart"))
+    assert run.code == 1
+    assert run.err == "baxterface: BAXTERFACE_VOICE: unknown voice 'hart'; did you mean 'heart'?\n"
