@@ -82,7 +82,7 @@ def play(
     from ..drawing.renderer import Renderer
     from ..engine.session_run import reactive
     from ..play.player import Player, TerminalScreen, WindowScreen, window_available
-    from ..speech.synthesis import start_in_background
+    from ..speech.warm_start import start_in_background
 
     if watch and (script_path in (None, "-") or inline is not None):
         raise fail("baxterface play: --watch needs a SCRIPT file", 2)

@@ -37,7 +37,7 @@ def play_live(
     from ..language.event_trace import read_trace
     from ..play.live_player import LivePlayer
     from ..play.player import TerminalScreen, WindowScreen
-    from ..speech.synthesis import start_in_background
+    from ..speech.warm_start import start_in_background
 
     words = phrases_wanted(script, "play", "--listen") if listen else []
     try:

@@ -365,7 +365,7 @@ def stream(
     """
     from ..ros.effect_messages import DISPLAY_TOPICS
     from ..ros.speakers import AUDIO_CHOICES, SPEAKERS
-    from ..speech.synthesis import start_in_background
+    from ..speech.warm_start import start_in_background
 
     version = chosen_ros_version("stream", ros)
     _, ros_args = split_ros_args(list(ctx.args), version, "stream")

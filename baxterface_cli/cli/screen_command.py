@@ -70,7 +70,7 @@ def screen(
     from ..drawing.renderer import Renderer
     from ..screen.screen_api import ScreenApi
     from ..screen.screen_face import ScreenFace
-    from ..speech.synthesis import start_in_background
+    from ..speech.warm_start import start_in_background
     from ..web.request_guard import is_loopback
     from ..web.server import bind, logger, serve, url_for
 

@@ -59,7 +59,7 @@ def studio(
     except MissingTool as e:
         raise fail(f"baxterface studio: {e}") from None
     from ..drawing.renderer import Renderer
-    from ..speech.synthesis import start_in_background
+    from ..speech.warm_start import start_in_background
     from ..studio.api import create_app, log
     from ..studio.workspace import Workspace
     from ..web.request_guard import is_loopback

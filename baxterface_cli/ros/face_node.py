@@ -38,7 +38,7 @@ from ..language.parser import parse, parse_file
 from ..language.syntax_tree import Script
 from ..robot.mtcnn_detector import detector_note
 from ..speech.recordings import Recordings
-from ..speech.synthesis import start_in_background
+from ..speech.warm_start import start_in_background
 from .connect import open_link
 from .face_loop import FaceLoop
 from .link import CHATTER, EVENT, NODE_NAME, QUEUE, Link

@@ -86,9 +86,10 @@ def mouth(utterance: Utterance) -> Tuple[MouthKey, ...]:
 
 
 def load(voice: str) -> None:
-    """Load `voice`'s model now (a live face names its voices as it starts); MissingTool without it."""
+    """Load `voice`'s model now, and say a word with it (its phonemizer's dictionaries and the model's
+    first run are slow too): a live face's default voice, as it starts; VoiceMissing without it."""
     with _LOCK:
-        _model(voice.lower())
+        _model(voice.lower())("Hello there, it is nice to meet you.", 1.0)
 
 
 def _model(voice: str) -> Model:

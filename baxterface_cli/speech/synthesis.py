@@ -12,7 +12,6 @@ samples. The voices `say` accepts are known without espeak-ng (see `voices`).
 from __future__ import annotations
 
 import bisect
-import contextlib
 import re
 import threading
 import unicodedata
@@ -23,7 +22,6 @@ from typing import Dict, FrozenSet, List, NamedTuple, Optional, Tuple
 import numpy as np
 
 from ..core.voices import DEFAULT_RATE, DEFAULT_VOICE, RATES, known_voice, voice_names
-from ..extras import MissingTool
 from ..language.diagnostics import did_you_mean
 from .espeak import EE_OK, EVENT_PHONEME, EVENT_SAMPLERATE, EVENT_WORD, Heard
 from .espeak_process import EspeakProcess, SynthesisFailed
@@ -293,21 +291,3 @@ def engine() -> SpeechEngine:
         if _engine is None:
             _engine = SpeechEngine()
         return _engine
-
-
-def start_in_background() -> threading.Thread:
-    """Start the shared engine, its speech process with it, on a thread of its own; the thread.
-
-    A live face (the node, the screen, the studio, play, stream) calls this as it starts: its first
-    `say` then finds the process running rather than waiting for one to start, which a loaded
-    machine takes seconds over. A `say` that comes sooner waits for this start (`engine()`'s
-    lock), never starts a second one. Without espeak-ng this says nothing: the first `say` does.
-    """
-
-    def start() -> None:
-        with contextlib.suppress(MissingTool):
-            engine()
-
-    thread = threading.Thread(target=start, name="baxterface-speech-start", daemon=True)
-    thread.start()
-    return thread
