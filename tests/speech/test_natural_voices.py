@@ -218,3 +218,35 @@ def test_the_default_voice_is_set_by_baxterface_voice(voices):
     run = baxterface("explain", "-e", 'say "Hi"', env=dict(os.environ, BAXTERFACE_VOICE="hart"))
     assert run.code == 1
     assert run.err == "baxterface: BAXTERFACE_VOICE: unknown voice 'hart'; did you mean 'heart'?\n"
+
+
+def test_the_screen_speaks_a_natural_voice_with_its_mouth_and_serves_its_sound(tmp_path, voices):
+    """A live face (the screen): the mouth moves through speech shapes while the voice is said, and
+    the page is served the voice's own sound."""
+    import io
+    import time
+
+    from studio_server import running_screen
+
+    said = (  # long enough to be seen speaking however slowly a loaded machine answers
+        "Hello there, I am the screen, and I speak in a natural voice for a while. Its sound is served "
+        "to every page that shows me, and my mouth moves with it. Then I rest, and wait for more."
+    )
+    (tmp_path / "first.face").write_text("happy\n")
+    with running_screen(tmp_path, str(tmp_path / "first.face"), "--no-idle") as screen:
+        assert screen.json("POST", "/api/command", f'say "{said}" voice heart')[0] == 200
+        deadline, mouths, key, state = time.monotonic() + 60, set(), None, {}
+        while key is None or state["saying"] == said:  # until it has spoken
+            assert time.monotonic() < deadline, state
+            state = screen.json("GET", "/api/state")[1]
+            if state["saying"] == said:
+                mouths.add(state["face"]["mouth"])
+                key = state["sounds"][0]["key"]
+            time.sleep(0.02)
+        assert len(mouths & SPEECH_MOUTHS) >= 2, mouths
+        code, wav = screen.request("GET", f"/api/sound/{key}.wav")
+    assert code == 200
+    with wave.open(io.BytesIO(wav)) as w:
+        rate, samples = w.getframerate(), np.frombuffer(w.readframes(w.getnframes()), "<i2")
+    utterance = voices.say(said, "heart", 175)
+    assert rate == utterance.sample_rate and np.array_equal(samples, utterance.samples)
