@@ -318,13 +318,12 @@ class _Compiler:
             utterance, keys = self.recordings.recite(s)
         else:
             from ..speech.espeak_process import SynthesisFailed
-            from ..speech.natural_voices import VoiceMissing
             from ..speech.recordings import RecordingError
 
             try:
                 utterance = self.speak(s.text, s.voice, s.rate)
-            except (SynthesisFailed, VoiceMissing) as e:  # espeak-ng crashed on this text, or the
-                raise RecordingError(str(e), s) from None  # voice is not installed: this `say` cannot be said
+            except SynthesisFailed as e:  # espeak-ng crashed on this text: this `say` cannot be said
+                raise RecordingError(str(e), s) from None
             keys = mouth(utterance)
         said = Said(t, utterance, keys)
         self.later(t, lambda at: self.speech.append(said))
@@ -421,7 +420,10 @@ def _engine_say(text: str, voice: Optional[str], rate: Optional[int]) -> Utteran
     if natural(voice):
         from ..speech import natural_voices
 
-        return natural_voices.say(text, voice, rate)
+        try:
+            return natural_voices.say(text, voice, rate)
+        except natural_voices.VoiceMissing:  # said once; espeak-ng speaks in its place
+            voice = natural_voices.FALLBACK
     from ..speech.synthesis import engine
 
     return engine().say(text, voice, rate)

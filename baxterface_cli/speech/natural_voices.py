@@ -18,6 +18,7 @@ rules as any `say`'s.
 from __future__ import annotations
 
 import json
+import sys
 import threading
 from collections import OrderedDict
 from typing import Any, Callable, Dict, List, Optional, Tuple
@@ -50,11 +51,17 @@ _said: OrderedDict = OrderedDict()
 
 
 class VoiceMissing(MissingTool):
-    """A natural voice whose extra is not installed (or this Python has none): that `say` fails."""
+    """A natural voice whose extra is not installed (or this Python has none)."""
+
+
+# Where a natural voice is missing, espeak-ng's voice of its language speaks instead, and that is said
+# once a process, on standard error (which the node logs).
+FALLBACK = "en-us"
+_warned: List[str] = []
 
 
 def say(text: str, voice: str, rate: int = DEFAULT_RATE) -> Utterance:
-    """`text` spoken by the natural voice `voice`, its phonemes timed; VoiceMissing
+    """`text` spoken by the natural voice `voice`, its phonemes timed; VoiceMissing (said once)
     without the extra, ValueError for an unknown voice or a rate out of RATES."""
     voice = voice.lower()
     if voice not in NATURAL_VOICES:
@@ -103,7 +110,11 @@ def _needed(module: str, voice: str) -> Any:
     try:
         return need(module, VOICES_EXTRA, "")
     except MissingTool:
-        raise VoiceMissing(NEEDS.format(voice)) from None
+        line = NEEDS.format(voice) + f"; espeak-ng's {FALLBACK} speaks instead"
+        if line not in _warned:
+            _warned.append(line)
+            sys.stderr.write(f"baxterface: {line}\n")
+        raise VoiceMissing(line) from None
 
 
 def _hibari() -> Model:

@@ -123,7 +123,7 @@ def test_an_unknown_voice_is_a_check_error_with_the_nearest_name():
     assert run.code == 1 and "<stdin>:1:16: error: unknown voice 'jo'; did you mean 'joe'?" in run.err
 
 
-def test_without_the_extra_a_natural_say_is_one_error_naming_it(tmp_path):
+def test_without_the_extra_espeak_ng_speaks_in_its_place_after_one_line_naming_it(tmp_path):
     site = tmp_path / "no_voices"
     site.mkdir()
     (site / "sitecustomize.py").write_text(
@@ -135,10 +135,16 @@ def test_without_the_extra_a_natural_say_is_one_error_naming_it(tmp_path):
     env = dict(os.environ)
     env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(site), env.get("PYTHONPATH", "")]))
     out = tmp_path / "x.wav"
-    run = baxterface("render", "-e", 'say "Hi" voice heart', "--out", str(out), env=env)
-    assert run.code == 1 and not out.exists()
-    assert "error: the natural voice 'heart' needs Python 3.9+" in run.err
-    assert "pip install 'baxterface[voices]'" in run.err and "Traceback" not in run.err
+    script = 'say "Hi" voice heart; say "Hello there" voice heart'
+    run = baxterface("render", "-e", script, "--out", str(out), env=env)
+    assert run.code == 0 and out.exists(), run.err
+    assert run.err.splitlines()[0] == (
+        "baxterface: the natural voice 'heart' needs Python 3.9+ and its extra: "
+        "pip install 'baxterface[voices]'; espeak-ng's en-us speaks instead"
+    )
+    assert run.err.count("needs Python 3.9+") == 1 and "Traceback" not in run.err  # once, for both
+    run = baxterface("explain", "-e", script, env=env)
+    assert run.out.count("voice en-us, 175 words a minute") == 2, run.out
 
 
 def test_the_models_own_times_place_the_phonemes_in_the_sound(voices):
