@@ -247,7 +247,7 @@ def _terminate(signum: int, frame: object) -> None:
 
 def _check_default_voice() -> None:
     """A $BAXTERFACE_VOICE that names no voice is one line at the start, whatever the command."""
-    from ..core.voices import VOICE_VARIABLE, default_voice, voice_names
+    from ..core.voices import VOICE_VARIABLE, default_voice, say_voice_names
 
     try:
         default_voice()
@@ -255,7 +255,7 @@ def _check_default_voice() -> None:
         from ..language.diagnostics import did_you_mean
 
         name = os.environ.get(VOICE_VARIABLE, "").strip().lower()
-        hint = did_you_mean(name, voice_names()) or "; 'baxterface voices' lists them"
+        hint = did_you_mean(name, say_voice_names()) or "; 'baxterface voices' lists them"
         typer.echo(f"baxterface: {e}{hint}", err=True)
         sys.exit(1)
 

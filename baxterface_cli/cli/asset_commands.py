@@ -20,9 +20,9 @@ def voices(
     ),
 ) -> None:
     """List the voices `say ... voice NAME` takes (espeak-ng's), with the language each speaks."""
-    from ..core.voices import matching_voices, voice_languages
+    from ..core.voices import listed_voices, matching_voices
 
-    found = matching_voices(query) if query else list(voice_languages().items())
+    found = matching_voices(query) if query else list(listed_voices().items())
     if not found:
         raise fail(f"baxterface voices: no voice speaks {query!r}; 'baxterface voices' lists them all")
     width = max(len(name) for name, _ in found)

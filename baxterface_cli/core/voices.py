@@ -40,18 +40,28 @@ def natural(name: str) -> bool:
 
 @lru_cache(maxsize=1)
 def voice_languages() -> Dict[str, str]:
-    """Every voice name, sorted, with the language it speaks."""
+    """Every espeak-ng voice name, sorted, with the language it speaks."""
     text = resource("data/voices.txt").read_text(encoding="utf-8")
     rows = (line.split(None, 1) for line in text.splitlines() if line.strip() and not line.startswith("#"))
-    needs = f" (Python 3.9+, baxterface[{VOICES_EXTRA}])"
-    natural_rows = [(name, language + needs) for name, language in NATURAL_VOICES.items()]
-    espeak_rows = [(row[0].lower(), row[1].strip() if len(row) > 1 else "") for row in rows]
-    return dict(sorted(espeak_rows + natural_rows))
+    return dict(sorted((row[0].lower(), row[1].strip() if len(row) > 1 else "") for row in rows))
 
 
 def voice_names() -> Tuple[str, ...]:
-    """Every voice name, sorted."""
+    """Every espeak-ng voice name, sorted."""
     return tuple(voice_languages())
+
+
+def listed_voices() -> Dict[str, str]:
+    """Every voice `say` takes, sorted, with the language it speaks: espeak-ng's, and the natural
+    ones with what they need."""
+    needs = f" (Python 3.9+, baxterface[{VOICES_EXTRA}])"
+    natural_rows = {name: language + needs for name, language in NATURAL_VOICES.items()}
+    return dict(sorted({**voice_languages(), **natural_rows}.items()))
+
+
+def say_voice_names() -> Tuple[str, ...]:
+    """Every voice name `say` takes, espeak-ng's and the natural ones."""
+    return tuple(listed_voices())
 
 
 def matching_voices(query: str) -> List[Tuple[str, str]]:
@@ -61,7 +71,7 @@ def matching_voices(query: str) -> List[Tuple[str, str]]:
     q = query.strip().lower()
     return [
         (name, language)
-        for name, language in voice_languages().items()
+        for name, language in listed_voices().items()
         if name == q
         or name.startswith(q + "-")
         or any(word.startswith(q) for word in re.findall(r"[a-z]+", language.split("(")[0].lower()))
@@ -70,10 +80,11 @@ def matching_voices(query: str) -> List[Tuple[str, str]]:
 
 @lru_cache(maxsize=1)
 def _known() -> FrozenSet[str]:
-    return frozenset(voice_names())
+    return frozenset(say_voice_names())
 
 
 def known_voice(name: str) -> bool:
+    """Whether `say` takes `name`: an espeak-ng voice or a natural one."""
     return name.lower() in _known()
 
 

@@ -12,7 +12,7 @@ from typing import Any, Dict, List, Optional, Tuple
 from lark import Token
 
 from ..core.face_constants import LIMITS
-from ..core.voices import RATES, known_voice, natural, voice_names
+from ..core.voices import RATES, known_voice, natural, say_voice_names
 from . import syntax_tree as n
 from .diagnostics import Diagnostic
 
@@ -89,7 +89,7 @@ class SpeechRules:
             self._error(token, f"'{token}' is a voice, not a language; 'baxterface voices' lists them")
             return None
         if not known_voice(name):
-            hint = self.hints(name, voice_names()) or "; 'baxterface voices' lists them"
+            hint = self.hints(name, say_voice_names()) or "; 'baxterface voices' lists them"
             self._error(token, f"unknown {what} '{token}'{hint}")
             return None
         return name

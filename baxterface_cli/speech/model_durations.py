@@ -16,6 +16,7 @@ to the phoneme before; punctuation and the pads at the ends are pauses.
 
 from __future__ import annotations
 
+import itertools
 import math
 from typing import Iterable, List, Tuple
 
@@ -32,6 +33,8 @@ GLIDES = {"aɪ": "aI", "aʊ": "aU", "eɪ": "eI", "oʊ": "oU", "ɔɪ": "OI"}
 STRESS, GOES_ON = "ˈˌ", "ː "
 PAUSE = "_"
 DIGIT = 4
+BAND = 24
+MOST = 12  # the most words one is matched with: "1,234,567" is said as eleven
 RUN = 1.0  # what matching words in a run costs beyond one to one: a run is only for a good reason
 
 
@@ -115,23 +118,31 @@ def placed_words(written: List[str], spoken: List[List[float]]) -> List[float]:
     letters = [max(1, sum(DIGIT if char.isdigit() else char.isalpha() for char in word)) for word in written]
     sounds = [len(word) for word in spoken]
     ratio = sum(sounds) / sum(letters)
-    best = {(0, 0): (0.0, None)}  # (written, spoken) matched so far -> cost, the run before
+    letters_before = [0, *itertools.accumulate(letters)]
+    sounds_before = [0, *itertools.accumulate(sounds)]
+    best = {(0, 0): (0.0, (0, 0))}  # (written, spoken) matched so far -> cost, where its last run began
+    slope = len(spoken) / len(written)
     for i in range(len(written) + 1):
-        for j in range(len(spoken) + 1):
+        # The runs keep near the diagonal: BAND words either way of it (a long text stays quick).
+        low, high = max(0, int(i * slope) - BAND), min(len(spoken), int(i * slope) + BAND)
+        for j in range(low, high + 1):
             if (i, j) not in best:
                 continue
             cost = best[(i, j)][0]
-            runs = [(1, k) for k in range(1, len(spoken) - j + 1)] + [
-                (k, 1) for k in range(2, len(written) - i + 1)
-            ]
+            most_spoken, most_written = min(MOST, len(spoken) - j), min(MOST, len(written) - i)
+            runs = [(1, b) for b in range(1, most_spoken + 1)] + [(a, 1) for a in range(2, most_written + 1)]
             for a, b in runs:
                 if i + a > len(written) or j + b > len(spoken):
                     continue
-                size = abs(math.log(sum(sounds[j : j + b]) / (ratio * sum(letters[i : i + a]))))
+                said = sounds_before[j + b] - sounds_before[j]
+                size = abs(math.log(said / (ratio * (letters_before[i + a] - letters_before[i]))))
                 size += RUN if a + b > 2 else 0.0
                 key = (i + a, j + b)
                 if key not in best or cost + size < best[key][0]:
                     best[key] = (cost + size, (i, j))
+    if (len(written), len(spoken)) not in best:  # runs too long to match: the model's words in order
+        starts = [word[0] for word in spoken]
+        return [starts[min(i, len(starts) - 1)] for i in range(len(written))]
     out: List[float] = []
     key = (len(written), len(spoken))
     while key != (0, 0):

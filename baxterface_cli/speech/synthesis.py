@@ -149,7 +149,7 @@ class SpeechEngine:
     def say(self, text: str, voice: str = DEFAULT_VOICE, rate: int = DEFAULT_RATE) -> Utterance:
         """`text` spoken, trimmed to the voice; ValueError for an unknown voice or a rate out of RATES,
         SynthesisFailed for a text espeak-ng crashed on (or took too long over)."""
-        if not known_voice(voice):
+        if voice.lower() not in VOICES:  # espeak-ng's; the natural ones are natural_voices.py's
             raise ValueError(unknown_voice_message(voice))
         if isinstance(rate, bool) or int(rate) != rate or not RATES[0] <= rate <= RATES[1]:
             raise ValueError(

@@ -227,9 +227,10 @@ def test_the_default_voice_is_set_by_baxterface_voice(voices):
 
 
 def test_the_screen_speaks_a_natural_voice_with_its_mouth_and_serves_its_sound(tmp_path, voices):
-    """A live face (the screen): the mouth moves through speech shapes while the voice is said, and
-    the page is served the voice's own sound."""
+    """A live face (the screen) whose default voice is natural: it loads it as it starts; the mouth
+    moves through speech shapes while the voice is said, and the page is served the voice's sound."""
     import io
+    import os
     import time
 
     from studio_server import running_screen
@@ -239,16 +240,24 @@ def test_the_screen_speaks_a_natural_voice_with_its_mouth_and_serves_its_sound(t
         "to every page that shows me, and my mouth moves with it. Then I rest, and wait for more."
     )
     (tmp_path / "first.face").write_text("happy\n")
-    with running_screen(tmp_path, str(tmp_path / "first.face"), "--no-idle") as screen:
-        assert screen.json("POST", "/api/command", f'say "{said}" voice heart')[0] == 200
-        deadline, mouths, key, state = time.monotonic() + 60, set(), None, {}
-        while key is None or state["saying"] == said:  # until it has spoken
-            assert time.monotonic() < deadline, state
-            state = screen.json("GET", "/api/state")[1]
-            if state["saying"] == said:
-                mouths.add(state["face"]["mouth"])
-                key = state["sounds"][0]["key"]
-            time.sleep(0.02)
+    env = dict(os.environ, BAXTERFACE_VOICE="heart")
+    with running_screen(tmp_path, str(tmp_path / "first.face"), "--no-idle", env=env) as screen:
+        mouths, key = set(), None
+        # A live face starts a command's timeline when it arrives: one compiled while the voice still
+        # loads (the machine loaded) is partly over when it begins, so it is said again until seen.
+        for _ in range(3):
+            duration = screen.json("POST", "/api/command", f'say "{said}"')[1]["duration"]
+            deadline, state = time.monotonic() + duration + 30, {"saying": said}
+            while key is None or state["saying"] == said:  # until it has spoken
+                if time.monotonic() > deadline:
+                    break
+                state = screen.json("GET", "/api/state")[1]
+                if state["saying"] == said:
+                    mouths.add(state["face"]["mouth"])
+                    key = state["sounds"][0]["key"]
+                time.sleep(0.02)
+            if len(mouths & SPEECH_MOUTHS) >= 2:
+                break
         assert len(mouths & SPEECH_MOUTHS) >= 2, mouths
         code, wav = screen.request("GET", f"/api/sound/{key}.wav")
     assert code == 200
