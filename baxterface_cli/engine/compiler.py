@@ -386,7 +386,7 @@ def compile_script(
     if crossfade is None:
         crossfade = 0.0 if script.legacy else CROSSFADE
     compiler = _Compiler(
-        script, rng or random.Random(seed), start or FaceState(), crossfade, speak or _engine_say, recordings
+        script, rng or random.Random(seed), start or FaceState(), crossfade, speak or engine_say, recordings
     )
     if carry is not None:
         carry_over(compiler, carry)
@@ -413,7 +413,7 @@ def compile_script(
     )
 
 
-def _engine_say(text: str, voice: Optional[str], rate: Optional[int]) -> Utterance:
+def engine_say(text: str, voice: Optional[str], rate: Optional[int]) -> Utterance:
     from ..core.voices import DEFAULT_RATE, default_voice, natural
 
     voice, rate = voice or default_voice(), rate or DEFAULT_RATE

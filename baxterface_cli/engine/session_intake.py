@@ -27,6 +27,7 @@ frame loop never does.
 
 from __future__ import annotations
 
+import contextlib
 import re
 import threading
 from collections import deque
@@ -61,6 +62,25 @@ Sent = Union[str, n.Script]  # a command as sent: its text, or a script its send
 
 class Refused(Exception):
     """An input the intake could not take: too many are waiting (the reason is the message)."""
+
+
+def said_ahead(script: n.Script) -> bool:
+    """Synthesise what the script's first statement says (a `say`, an `ask`'s question), kept by
+    the speech engines for its compile; whether it says anything. A text that cannot be said is
+    left for the compile to refuse."""
+    from ..language.checker import walk
+    from .compiler import engine_say
+
+    first = next((s for s in script.body if not isinstance(s, (n.On, n.Define, n.State))), None)
+    if first is None:
+        return False
+    found = [s for s in walk((first,)) if isinstance(s, (n.Say, n.Ask))]
+    says = [s.question if isinstance(s, n.Ask) else s for s in found]
+    texts = [s for s in says if s.file is None]
+    for say in texts:
+        with contextlib.suppress(Exception):  # noqa: BLE001 - the compile says why, in one line
+            engine_say(say.text, say.voice, say.rate)
+    return bool(texts)
 
 
 def _totals(session: LiveSession) -> Dict[str, int]:
@@ -224,7 +244,6 @@ class SessionIntake(ClosedOnExit):
                     if item is None:
                         break
                     try:
-                        self._note(item)
                         self._do(item)
                         if self.record is not None:
                             self.record.follow(self.session)
@@ -287,6 +306,7 @@ class SessionIntake(ClosedOnExit):
 
     def _do(self, item) -> None:
         if item[0] == "event":
+            self._note(item)
             _, _, _, event, at, source, done = item
             self.posted += 1
             if done is None:
@@ -303,8 +323,16 @@ class SessionIntake(ClosedOnExit):
             return
         kind, replaced, _, said, at, done = item
         if done is not None and not done.set_running_or_notify_cancel():
+            self._note(item)
             return
         script = self._read(said)
+        if script is not None and said_ahead(script):
+            # Its first words synthesised before it starts: it starts now, its speech whole, where
+            # starting at its arrival would have cut the synthesis's time (a natural voice's 20 to
+            # 190 ms) from the start of its sound and mouth.
+            at = max(at, self.clock())
+            item = item[:4] + (at,) + item[5:]
+        self._note(item)
         if script is None:
             return
         kept = _kept_of(script) if replaced else None

@@ -157,7 +157,7 @@ def test_speech_moves_the_drawn_mouth_through_its_shapes(monkeypatch):
         MouthKey(0.55, "closed", 0.0),
         MouthKey(0.6, "rest", 0.0),
     )
-    monkeypatch.setattr("baxterface_cli.speech.visemes.mouth_track", lambda u: keys)
+    monkeypatch.setattr("baxterface_cli.speech.natural_voices.mouth_track", lambda u, *rules: keys)
     tl = timeline('happy; say "mama"', speak=lambda text, voice, rate: utterance)
     start = tl.speech[0].at
     face = tl.sample(start + 0.2).expression

@@ -173,3 +173,27 @@ def test_a_take_over_let_go_for_a_later_one_still_installs_its_states(live):
         intake.submit("nod")
     eventually(lambda: intake.idle() and session.main is not None and session.main.script.source == "nod")
     assert "calm" in session.states.known and intake.dropped == 1
+
+
+def test_a_command_that_speaks_starts_once_its_words_are_synthesised_its_sound_whole(live, monkeypatch):
+    # Synthesis takes time (a natural voice 20 to 190 ms, more on a busy machine). Started at its
+    # arrival, the command's first words were behind the clock by then, cut from sound and mouth.
+    from baxterface_cli.engine import compiler
+
+    session, intake, clock, _ = live
+    synthesised: List[str] = []
+    real = compiler.engine_say
+
+    def slow(text, voice, rate):
+        if text not in synthesised:
+            synthesised.append(text)
+            clock.now += 0.4  # the time the synthesis took, on the test's clock
+        return real(text, voice, rate)
+
+    monkeypatch.setattr(compiler, "engine_say", slow)
+    intake.submit('say "Hello there"')
+    eventually(lambda: session.face.timeline.speech)
+    assert synthesised == ["Hello there"]  # once: ahead, and kept for the compile
+    assert session.face.started == pytest.approx(10.4)  # when its words were ready, not 10.0
+    said = session.face.timeline.speech[0]
+    assert said.at == 0.0  # its sound from its first sample, at the face's start
