@@ -111,7 +111,7 @@ def doc_folder(tmp_path):
     (tmp_path / "scripts_examples").mkdir()
     (tmp_path / "assets").mkdir()  # the theme-drawing script writes beside itself, so here
     shutil.copy(ROOT / "assets" / "draw_default_theme.py", tmp_path / "assets")
-    for pattern in ("*.face", "*.jsonl", "*.jpg", "*.ogg"):  # scripts, what they follow and say
+    for pattern in ("*.face", "*.jsonl", "*.jpg", "*.ogg", "*.wav"):  # scripts, what they follow, say, hear
         for script in (ROOT / "scripts_examples").glob(pattern):
             shutil.copy(script, tmp_path / script.name)
             shutil.copy(script, tmp_path / "scripts_examples" / script.name)

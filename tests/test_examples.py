@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from baxterface_cli import parse_file
@@ -62,3 +63,37 @@ def test_the_greeter_reacts_to_each_of_its_events():
     # Asleep, only the button matters: someone walking past before it wakes is not greeted.
     asleep = explained.out.split("state awake entered")[0]
     assert "event person near" in asleep and "'on person near' runs" not in asleep
+
+
+def test_the_conversation_hears_its_visitor_answer_and_renders_both_voices(tmp_path):
+    # The face asks in a natural voice; the visitor's recording (another natural voice) answers
+    # after the question; its words are heard, the answer routed, and the video has both voices.
+    path = EXAMPLES[[p.name for p in EXAMPLES].index("conversation.face")]
+    heard = ["--hear", f"{path.with_name('visitor.wav')}@5s"]
+    explained = baxterface("explain", str(path), *heard)
+    assert explained.code == 0, explained.err
+    assert "answered" in explained.out and "nothing heard" not in explained.out, explained.out
+    video = tmp_path / "conversation.mp4"
+    rendered = baxterface("render", str(path), *heard, "--out", str(video), "--size", "256x150", "--quiet")
+    assert rendered.code == 0, rendered.err
+    sound = sound_of(video)
+    rate = 16000
+    loud = lambda a, b: float(np.sqrt(np.mean(sound[int(a * rate) : int(b * rate)] ** 2)))  # noqa: E731
+    assert loud(4.6, 4.9) < 0.01  # between the question and the answer: nobody speaks
+    assert loud(5.1, 5.8) > 0.03  # the visitor
+    assert loud(6.3, 8.5) > 0.03  # the face's answer to them
+
+
+def sound_of(video: Path):
+    """The video's sound, mono at 16 kHz, as floats (PyAV reads it)."""
+    import av
+
+    with av.open(str(video)) as container:
+        resampler = av.AudioResampler(format="flt", layout="mono", rate=16000)
+        chunks = [
+            frame.to_ndarray().reshape(-1)
+            for packet in container.demux(audio=0)
+            for decoded in packet.decode()
+            for frame in resampler.resample(decoded)
+        ]
+    return np.concatenate(chunks)
