@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import random
 import secrets
+import time
 from pathlib import Path
 from typing import Optional
 
@@ -18,6 +20,7 @@ from .app import (
     fitted_theme,
 )
 from .finite_numbers import finite
+from .log_option import LOG_OPT, LOG_SIZE_OPT, log_file, open_log
 
 
 def studio(
@@ -42,6 +45,8 @@ def studio(
     topic: str = typer.Option(
         "display_chatter", "--topic", help="The face node's command topic, for presses sent to the robot."
     ),
+    log: Optional[str] = LOG_OPT,
+    log_size: float = LOG_SIZE_OPT,
 ) -> None:
     """Write, preview and perform the face from a web page.
 
@@ -60,7 +65,8 @@ def studio(
         raise fail(f"baxterface studio: {e}") from None
     from ..drawing.renderer import Renderer
     from ..speech.warm_start import start_in_background
-    from ..studio.api import create_app, log
+    from ..studio.api import create_app
+    from ..studio.api import log as server_log
     from ..studio.workspace import Workspace
     from ..web.request_guard import is_loopback
     from ..web.server import bind, serve, url_for
@@ -70,11 +76,17 @@ def studio(
         raise fail(f"baxterface studio: {path} is a folder; give a script file", 2)
     if not path.parent.resolve().is_dir():
         raise fail(f"baxterface studio: no folder {path.parent} to keep {path.name} in", 2)
+    if log is not None and seed is None:  # the log says the seed, so its replay chooses as the studio did
+        seed = random.randrange(2**31)
+    logged = log_file(log, log_size, "studio", seed=seed)
     start_in_background()  # the speech process starts as the theme is fitted: no `say` waits for it
     renderer = Renderer(fitted_theme(theme, size, "studio"))
     renderer.prepare_in_background()
     try:
-        workspace = Workspace(path, Path(panel) if panel else None, seed, idle, topic=topic)
+        record = open_log(
+            logged, time.monotonic(), lambda text: typer.echo(f"baxterface studio: {text}", err=True)
+        )
+        workspace = Workspace(path, Path(panel) if panel else None, seed, idle, topic=topic, record=record)
     except PanelError as e:
         raise fail(f"baxterface studio: {e}") from None
     except ScriptError as e:
@@ -95,7 +107,9 @@ def studio(
 
             webbrowser.open(url)
 
-    stopped_by = serve(served, sock, ready, log=log)
+    stopped_by = serve(served, sock, ready, log=server_log)
+    if record is not None:
+        record.close()
     if workspace.text != workspace.saved:
         typer.echo(
             f"baxterface studio: stopped; the editor's last changes to {path.name} were not saved", err=True

@@ -110,6 +110,10 @@ def _replay(
 ) -> Replay:
     script: Optional[n.Script] = None
     origin = 0.0
+    settings = start.get("settings") if isinstance(start.get("settings"), dict) else {}
+    # The studio runs its events again over each script it plays, at their times on that run
+    # (`at`): its replay is the last script over the events since the last `cleared`.
+    studio = settings.get("end") == "studio"
     later: List[Later] = []
     events: List[Posted] = []
     refused = 0
@@ -117,12 +121,14 @@ def _replay(
     for number, record in records[1:]:
         kind, t = record["type"], float(record["t"])
         if kind == "script":
+            if studio and record.get("press") is True:  # played in the studio's live session, apart
+                continue
             try:
                 read = parse(str(record.get("text", "")), str(record.get("source") or path))
             except ScriptError:
                 refused += 1
                 continue
-            if script is None:
+            if script is None or studio:
                 script, origin = read, t
             else:
                 later.append(Later(t - origin, read, record.get("queued") is True, number))
@@ -132,14 +138,21 @@ def _replay(
             except ScriptError as e:
                 notes.append(f"{path}:{number}: an event this baxterface does not know: {e.summary()}")
                 continue
-            events.append(Posted(max(0.0, t - origin), event, number, str(record.get("source") or "")))
-        elif kind == "end" and script is not None:
+            at = record.get("at") if studio else t - origin
+            if isinstance(at, bool) or not isinstance(at, (int, float)):
+                notes.append(f"{path}:{number}: a studio's event without its time 'at' left out")
+                continue
+            events.append(Posted(max(0.0, at), event, number, str(record.get("source") or "")))
+        elif kind == "cleared" and studio:
+            events.clear()
+        elif kind == "end" and script is not None and not studio:
             end = max(0.0, t - origin)
     if script is None:
         raise LogError(f"{path}: no script in it to replay")
     if refused:
         notes.append(f"{path}: {refused} command{'s' if refused != 1 else ''} the face refused live left out")
-    seed = start.get("settings", {}).get("seed") if isinstance(start.get("settings"), dict) else None
+    events.sort(key=lambda e: (e.at, e.line))  # the studio's, fired as its preview was sought
+    seed = settings.get("seed")
     seed = seed if isinstance(seed, int) and not isinstance(seed, bool) else None
     return Replay(script, tuple(later), Trace(tuple(events), path), end, seed, tuple(notes))
 

@@ -97,6 +97,10 @@ class SessionLogFile(ClosedOnExit):
         """An event as it came, written as an events file writes it (language/event_trace.py)."""
         self._put({"type": "event", "t": self._t(at), "event": in_words(event), "source": source})
 
+    def note(self, at: float, record: Dict[str, Any]) -> None:
+        """`record` (its `type` and fields) at `at`: an end's own, as the studio's (`cleared`)."""
+        self._put({"type": record["type"], "t": self._t(at), **record})
+
     def follow(self, session: Any) -> None:
         """The session's log lines since the last call, each with its kind; call it where the
         session's lines are read already (never from a frame loop that could wait for its lock)."""

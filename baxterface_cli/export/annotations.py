@@ -36,12 +36,21 @@ def annotation_kind(out: str) -> str:
 
 def tiers_of(run: Any, trace: Any, end: float, fps: float = FPS) -> Dict[str, List[Interval]]:
     """The tiers (see above) of `run`, a SessionRun of the replay whose events were `trace`."""
+    tiers = log_tiers(run.log, trace.events, run.timeline.speech, end)
+    tiers["emotion"] = _apart(_emotions(run.timeline, end, fps))
+    return tiers
+
+
+def log_tiers(
+    log: Sequence[Logged], events: Sequence[Any], speech: Sequence[Any], end: float
+) -> Dict[str, List[Interval]]:
+    """The tiers a run's log, its events (each `Posted`) and its speech (each `Said`) make, up to
+    `end`: all but `emotion`, which needs its frames (the studio's timeline shows these)."""
     tiers = {
-        "events": _events(trace, end),
-        "handlers": _handlers(run.log, end),
-        "states": _states(run.log, end),
-        "said": [(s.at, min(s.end, end), s.utterance.said) for s in run.timeline.speech if s.at < end],
-        "emotion": _emotions(run.timeline, end, fps),
+        "events": _events(events, end),
+        "handlers": _handlers(log, end),
+        "states": _states(log, end),
+        "said": [(s.at, min(s.end, end), s.utterance.said) for s in speech if s.at < end],
     }
     return {name: _apart(spans) for name, spans in tiers.items()}
 
@@ -54,11 +63,11 @@ def _apart(spans: List[Interval]) -> List[Interval]:
     return [(a, b, x) for a, b, x in cut if b > a]
 
 
-def _events(trace: Any, end: float) -> List[Interval]:
+def _events(events: Sequence[Any], end: float) -> List[Interval]:
     from ..language.events import in_words
 
     at_once: List[Tuple[float, List[str]]] = []
-    for posted in trace.events:
+    for posted in events:
         if posted.at > end:
             break
         if at_once and at_once[-1][0] == posted.at:

@@ -77,7 +77,7 @@ class StudioApi(FaceApi):
     def fire(self, event: Event, source: str) -> Dict[str, Any]:
         """An event fired by hand at the script the editor plays (studio/reacting.py)."""
         try:
-            return self.workspace.event(event)
+            return self.workspace.event(event, source)
         except TooManyEvents as e:
             raise BadRequest(str(e)) from None
 

@@ -25,6 +25,7 @@ from typing import TYPE_CHECKING, Dict, List, NamedTuple, Optional, Tuple
 
 from ..engine.live_session import LiveSession
 from ..engine.session_fork import exactly, fork, rebase
+from ..engine.session_records import Logged
 from ..engine.session_run import NeverRests, run_end, settle
 from ..engine.stitched import Segments
 from ..language import syntax_tree as n
@@ -44,6 +45,7 @@ class Checkpoint(NamedTuple):
     posted: int  # the run's first `posted` events are in it
     session: LiveSession  # just after them: only copies of it go on
     segments: int  # the timelines it had played by then
+    lines: int  # the log lines it had written by then
     script: n.Script  # whose handlers the session holds: a run of an edit of it goes on with its own
 
 
@@ -60,12 +62,14 @@ class EventRun:
         played: Segments,
         checkpoints: Tuple[Checkpoint, ...],
         chapters: Chapters,
+        lines: Tuple[Logged, ...] = (),
         shown: bool = True,
     ) -> None:
         """`shown`: the run on to its end made now, for the preview (not for a run about to go on)."""
         self.script, self.seed, self.recordings = script, seed, recordings
         self.events = events
         self.played = played  # the timelines played up to the last event, with their starts
+        self.lines = lines  # the session's log up to the last event (a copy's log starts empty)
         self.checkpoints = checkpoints
         self.chapters = chapters
         if shown:
@@ -81,10 +85,14 @@ class EventRun:
     ) -> EventRun:
         """`script` run over `events` from the start (ScriptError or MissingTool if it cannot play)."""
         # As run_over makes it: the same session, given the same calls.
-        session = LiveSession(script, seed=seed, idle=False, recordings=recordings, record=True, log_lines=0)
+        # Its log whole: the studio's timeline shows the handlers' runs, states and events from it.
+        session = LiveSession(
+            script, seed=seed, idle=False, recordings=recordings, record=True, log_lines=None
+        )
         played, session.segments = list(session.segments or ()), []
-        first = (Checkpoint(0, session, len(played), script),)
-        run = cls(script, seed, recordings, (), played, first, Chapters(), shown=not events)
+        lines = tuple(session.log)
+        first = (Checkpoint(0, session, len(played), len(lines), script),)
+        run = cls(script, seed, recordings, (), played, first, Chapters(), lines, shown=not events)
         return run._continued(run.checkpoints[0], list(events)) if events else run
 
     def with_event(self, posted: Posted) -> EventRun:
@@ -105,8 +113,9 @@ class EventRun:
         # The checkpoints kept go on with the edit's handlers when one is used (`_continued`): what
         # the edits since a checkpoint's script changed, no event before it reached.
         run = EventRun(
-            script, self.seed, self.recordings, self.events, self.played, kept, self.chapters, False
-        )
+            script, self.seed, self.recordings, self.events, self.played, kept, self.chapters, self.lines,
+            shown=False,
+        )  # fmt: skip
         return run._continued(kept[-1], list(self.events))
 
     def _continued(self, since: Checkpoint, events: List[Posted]) -> EventRun:
@@ -116,26 +125,30 @@ class EventRun:
             since = since._replace(session=rebase(since.session, self.script), script=self.script)
         session = fork(since.session)
         played = list(self.played[: since.segments])
+        lines = list(self.lines[: since.lines])
         checkpoints = [c for c in self.checkpoints if c.posted < since.posted] + [since]
         for k in range(since.posted, len(events)):
             posted = events[k]
             session.post(posted.event, posted.at, f"events:{k + 1}")
             played += session.segments  # type: ignore[operator]
             session.segments = []
+            lines += session.log
+            session.log.clear()
             if (k + 1) % EVERY == 0 or k + 1 == len(events):
-                checkpoints.append(Checkpoint(k + 1, session, len(played), self.script))
+                checkpoints.append(Checkpoint(k + 1, session, len(played), len(lines), self.script))
                 if k + 1 < len(events):
                     session = fork(session)
         # One every EVERY events, and the last: the run goes on from there.
         checkpoints = [c for c in checkpoints[:-1] if c.posted % EVERY == 0] + checkpoints[-1:]
         chapters = self.chapters.upto(since.segments).grown(played)
         return EventRun(
-            self.script, self.seed, self.recordings, tuple(events), played, tuple(checkpoints), chapters
-        )
+            self.script, self.seed, self.recordings, tuple(events), played, tuple(checkpoints), chapters,
+            tuple(lines),
+        )  # fmt: skip
 
     def _shown(self) -> Tuple[Chained, Dict[str, int]]:
         """The whole run, on from the last event to its end, as `run_over` ends it; and what its
-        handlers did in all."""
+        handlers did in all. Its whole log is kept as `log`."""
         last = self.checkpoints[-1]
         end_at = self.events[-1].at if self.events else 0.0
         tail = fork(last.session)
@@ -147,6 +160,7 @@ class EventRun:
             end = settle(tail, self.script, end_at, bool(self.events), duration)
         segments = [*self.played, *(tail.segments or ())] or [(0.0, tail.face.timeline)]
         end = run_end(tail, segments, end, duration)
+        self.log = (*self.lines, *tail.log)
         counts = tail.counts().values()
         totals = {key: sum(c[key] for c in counts) for key in ("runs", "dropped", "queued")}
         return chained(self.chapters, segments, end), totals

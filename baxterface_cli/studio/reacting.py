@@ -109,6 +109,7 @@ class Reacting:
     lock: Any
     clock: Any
     name: str
+    record: Any  # studio_log.py's StudioRecord
 
     def _start_reacting(self) -> None:
         # A fired event and an edit each change the run: one at a time, so neither loses the other.
@@ -116,8 +117,9 @@ class Reacting:
         self.pressed: List[Pressed] = []
         self.editor: Optional[n.Script] = None  # the editor's script the preview plays, without them
 
-    def event(self, event: n.Event) -> Dict[str, Any]:
-        """Fire `event` at the preview's position: what the script's handlers did with it.
+    def event(self, event: n.Event, source: str = "") -> Dict[str, Any]:
+        """Fire `event` (from `source`, for the session's log) at the preview's position: what the
+        script's handlers did with it.
         TooManyEvents past `MOST_EVENTS`; ScriptError (or MissingTool) for a handler that cannot play."""
         with self.firing:
             with self.lock:
@@ -147,6 +149,7 @@ class Reacting:
                 preview.events = events
                 preview.show(script, shown, counts, run)
                 preview.fired(t, self.clock())
+                self.record.fired(now, posted, source, shown, run)
         moved = {k: counts[k] - before[k] for k in counts}
         return {"event": in_words(event), "at": at, "events": len(events), **moved}
 
@@ -208,6 +211,7 @@ class Reacting:
             with self.lock:
                 self.pressed = pressed
                 self.preview.show(combined, *prepared)
+                self.record.script(self.clock(), combined, "panel", prepared[0], prepared[2])
         installed = [in_words(s.event) for s in script.body if isinstance(s, n.On)]
         replaced = [f"{in_words(s.event)}: its handler replaced" for s in script.body
                     if isinstance(s, n.On) and _key(s.event) in handled]  # fmt: skip
@@ -223,10 +227,12 @@ class Reacting:
                 had = bool(self.preview.events) or bool(self.pressed)
                 script = self.editor or self.preview.script
                 self.preview.events, self.pressed = [], []
+                self.record.cleared(self.clock())
             if had:  # show the editor's script without them
                 prepared = self._replay(script)
                 with self.lock:
                     self.preview.show(script, *prepared)
+                    self.record.script(self.clock(), script, self.name, prepared[0], prepared[2])
 
     def export_events(self, target: Path) -> Dict[str, Any]:
         """The script the events were fired at (with the handlers pressed) and the events, beside

@@ -18,27 +18,28 @@ import time
 from pathlib import Path
 from typing import Any, Callable, Dict, List, Optional, Tuple, Union
 
-from ..core.easing import EASINGS
-from ..core.face_constants import BROWS, DIRECTIONS, EMOTIONS, LIMITS, MOUTHS
+from ..core.face_constants import LIMITS
 from ..core.partial_files import PartialFile, write_atomic
-from ..core.presets import MOOD_CIRCLE
+from ..engine.session_log_file import SessionLogFile
 from ..engine.timeline import Timeline
 from ..extras import MissingTool
 from ..language.checker import walk
 from ..language.diagnostics import Diagnostic, ScriptError
-from ..language.parser import decode, grammar_words, parse, read_bounded
+from ..language.parser import decode, parse, read_bounded
 from ..language.syntax_tree import Say, Script
-from ..language.vocabulary import BARE_WORDS
 from ..speech import phones_heard
 from ..speech.recordings import NO_POCKETSPHINX, RecordingError, Recordings
 from ..web.answers import diagnostics_json, problem
 from ..web.sounds import sound_key, wav_file
 from .chained import Chained
+from .lanes import lanes
+from .page_tables import feelings, vocabulary
 from .panel import Button, PanelError, load_panel
 from .presses import Stale
 from .preview import Preview
 from .reacting import Reacting, listens, with_pressed
 from .robot_switch import RobotSwitch
+from .studio_log import StudioRecord
 
 MAX_SESSION_FILES = 100  # session files one run writes; each session has one, replaced by its exports
 SHOWN_SPANS = 400  # spans of a long run the page lists, around the preview's position
@@ -91,29 +92,6 @@ def timeline_json(timeline: Timeline, t: float = 0.0) -> Dict[str, Any]:
     return {"duration": round(timeline.duration, 3), "spans": spans, "sounds": sounds, "spans_before": before}
 
 
-def vocabulary() -> Dict[str, List[str]]:
-    """The words the editor highlights, from the tables the parser uses."""
-    return {
-        "keywords": grammar_words(),
-        "words": sorted(BARE_WORDS),
-        "emotions": sorted(name for name in EMOTIONS if " " not in name),
-        "easings": sorted(EASINGS),
-        "mouths": list(MOUTHS),
-        "brows": list(BROWS),
-        "directions": sorted(DIRECTIONS),
-    }
-
-
-def feelings() -> Dict[str, Any]:
-    """What the mood pad and the intensity slider offer: the emotions a script may give an
-    intensity (`happy 0.4`; `default` at any intensity is the neutral face, so it is left out),
-    and where each emotion sits on the mood circle, in degrees from pleasant (core/presets.py)."""
-    return {
-        "emotions": [name.replace(" ", "_") for name in EMOTIONS if name != "default"],
-        "mood_circle": [{"emotion": name, "degrees": degrees} for name, degrees in MOOD_CIRCLE],
-    }
-
-
 class TooLargeToSave(ValueError):
     """A save the studio could not load again: over the size limit scripts are read with."""
 
@@ -141,6 +119,7 @@ class Workspace(Reacting):
         idle: bool = True,
         clock: Callable[[], float] = time.monotonic,
         topic: str = "display_chatter",
+        record: Optional[SessionLogFile] = None,
     ) -> None:
         self.path = path.resolve()
         self.folder = self.path.parent
@@ -165,6 +144,7 @@ class Workspace(Reacting):
         self.version = 0
         self._disk_stamp = self._stamp(self.path)
         self._panel_stamp = self._stamp(panel) if panel else None
+        self.record = StudioRecord(record)  # the session's log file (`studio --log`), if any
         self._start_reacting()
         self.update(self.text)
 
@@ -229,6 +209,7 @@ class Workspace(Reacting):
                 if prepared is not None:
                     self.editor = script
                     self.preview.show(played, *prepared)
+                    self.record.script(self.clock(), played, self.name, prepared[0], prepared[2])
         return {"diagnostics": diagnostics, "timeline": self.timeline()}
 
     def _recite(self, script: Any) -> Tuple[List[Diagnostic], bool]:
@@ -249,8 +230,9 @@ class Workspace(Reacting):
 
     def timeline(self) -> Dict[str, Any]:
         with self.lock:
-            shown = timeline_json(self.preview.animation.timeline, self.preview.position(self.clock()))
-            return {**shown, "listens": listens(self.preview.script), "fired": len(self.preview.events)}
+            t, preview = self.preview.position(self.clock()), self.preview
+            shown = {**timeline_json(preview.animation.timeline, t), "lanes": lanes(preview, t)}
+            return {**shown, "listens": listens(preview.script), "fired": len(preview.events)}
 
     def save(self, text: Union[str, bytes], base: Optional[int] = None) -> Dict[str, Any]:
         """Write `text` as the script; SaveConflict if the file changed since version `base`.
@@ -386,6 +368,7 @@ class Workspace(Reacting):
                     break
                 except Stale:  # another press or a clear came first: prepare it again
                     continue
+        self.record.press(now, text)
         self.robot.send(text)
         return at
 

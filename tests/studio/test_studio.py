@@ -233,7 +233,8 @@ def test_the_mood_pad_and_the_slider_are_offered_what_the_language_takes(tmp_pat
     """The page's mood pad and intensity slider: their emotions and circle come from the tables,
     and what they send is a press like any other, logged as the line it was."""
     from baxterface_cli.core.face_constants import EMOTIONS
-    from baxterface_cli.studio.workspace import Workspace, feelings
+    from baxterface_cli.studio.page_tables import feelings
+    from baxterface_cli.studio.workspace import Workspace
 
     offered = feelings()
     assert offered["emotions"][0] == "happy" and "wake_up" in offered["emotions"]

@@ -140,6 +140,42 @@
       li.onclick = () => api("POST", "/api/transport", { action: "seek", t: s.start });
       ol.appendChild(li);
     }
+    showLanes(timeline.lanes || {});
+  }
+
+  // The run's log under the preview (studio/lanes.py): its events, handlers' runs, states and
+  // speech as bars along the script's length; a click anywhere on a lane puts the preview there.
+  const LANES = ["events", "handlers", "states", "said"];
+  function showLanes(lanes) {
+    const box = $("lanes");
+    box.replaceChildren();
+    const length = duration || 1;
+    for (const name of LANES) {
+      const row = document.createElement("div");
+      row.className = "lane";
+      row.dataset.lane = name;
+      const label = document.createElement("span");
+      label.className = "lane-name";
+      label.textContent = name;
+      const track = document.createElement("div");
+      track.className = "track";
+      for (const bar of lanes[name] || []) {
+        const b = document.createElement("span");
+        b.className = "bar";
+        b.style.left = `${(100 * bar.start) / length}%`;
+        b.style.width = `${(100 * (bar.end - bar.start)) / length}%`;
+        b.title = `${bar.start.toFixed(2)}–${bar.end.toFixed(2)} s  ${bar.text}`;
+        b.textContent = bar.text;
+        track.appendChild(b);
+      }
+      track.onclick = (e) => {
+        const box = track.getBoundingClientRect();
+        const t = (Math.min(Math.max(e.clientX - box.left, 0), box.width) / box.width) * length;
+        api("POST", "/api/transport", { action: "seek", t: Math.round(t * 1000) / 1000 });
+      };
+      row.append(label, track);
+      box.appendChild(row);
+    }
   }
 
   function showStatus(s) {
@@ -153,6 +189,8 @@
     scrub.max = String(s.duration || 1);
     scrub.disabled = s.mode === "session";
     if (!dragging || s.mode === "session") scrub.value = String(s.t);
+    $("lanes").style.setProperty("--at", `${(100 * s.t) / (duration || 1)}%`);
+    $("lanes").classList.toggle("away", s.mode !== "script");
     if (s.mode === "script") {
       [...$("timeline").children].forEach((li, i) => {
         const span = spans[i];
