@@ -74,10 +74,12 @@ class SessionLogFile(ClosedOnExit):
         self._part = 0
         self._failed = False
         now = time.time()
+        # To the microsecond: a frame's stamp (the node's header.stamp) less it is its `t`.
+        self.unix = round(now, 6)
         self._wall = {
             "version": VERSION,
             "wall": datetime.datetime.fromtimestamp(now, UTC).isoformat(timespec="milliseconds"),
-            "unix": round(now, 3),
+            "unix": self.unix,
         }
         self._put({"type": "start", "t": 0.0, **self._wall, "settings": settings})
         self._thread = threading.Thread(target=self._work, name="baxterface-session-log", daemon=True)
@@ -86,7 +88,9 @@ class SessionLogFile(ClosedOnExit):
     # -- in, from any thread
 
     def _t(self, at: float) -> float:
-        return round(max(0.0, at - self.origin), 4)
+        # Not rounded: a replay begins each step at the very time the session did, so its frames
+        # are the live ones to the bit (at 0.1 ms, a mouth moving in speech was not).
+        return max(0.0, at - self.origin)
 
     def script(self, at: float, text: str, source: str, queued: bool = False) -> None:
         """A script or command as it arrived (its text), from `source` (a topic, a page, a file)."""
@@ -127,6 +131,11 @@ class SessionLogFile(ClosedOnExit):
     def watch(self, face: Any) -> None:
         """Be told of every timeline `face` (a LiveFace) begins from now on."""
         face.begun = self.begun
+
+    def waiting(self) -> int:
+        """Records handed over and not yet written (a session on a fast clock waits for them)."""
+        with self._cond:
+            return len(self._records)
 
     def close(self, at: Optional[float] = None) -> None:
         """The shutdown's record; everything waiting written (a second at most), the file closed."""
