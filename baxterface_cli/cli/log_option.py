@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import random
 import sys
 from typing import Any, Dict, Optional, Tuple
 
@@ -21,6 +22,12 @@ LOG_SIZE_OPT = typer.Option(
 )
 
 LogFile = Tuple[str, int, Dict[str, Any]]  # (its path, its size before it rotates, the settings)
+
+
+def logged_seed(path: Optional[str], seed: Optional[int]) -> Optional[int]:
+    """The seed a session runs with: the one given; with --log and none given, one drawn here,
+    which the log says, so that a replay's `one of`s and faces choose as the session's did."""
+    return random.randrange(2**31) if path is not None and seed is None else seed
 
 
 def log_file(path: Optional[str], megabytes: float, end: str, **settings: Any) -> Optional[LogFile]:

@@ -37,7 +37,7 @@ from .events_option import (
     session_animation,
 )
 from .finite_numbers import finite
-from .log_option import LOG_OPT, LOG_SIZE_OPT, log_file
+from .log_option import LOG_OPT, LOG_SIZE_OPT, log_file, logged_seed
 
 
 def play(
@@ -100,6 +100,7 @@ def play(
         raise fail(f"baxterface play: cannot open a window: {why_not}")
     if watch and log is not None:
         raise fail("baxterface play: --log keeps a live session's record, which --watch is not", 2)
+    seed = logged_seed(log, seed)
     logged = log_file(log, log_size, "play", seed=seed, events=events, duration=duration)
     if listen or (window and reactive(script)) or logged is not None:
         from .play_live import play_live

@@ -14,7 +14,7 @@ from ..extras import MissingTool
 from ..language.diagnostics import ScriptError
 from .app import IDLE_ON_OPT, RANDOM_SEED_OPT, THEME_OPT, echo_warnings, fail, fitted_theme, load_script
 from .finite_numbers import finite
-from .log_option import LOG_OPT, LOG_SIZE_OPT, log_file
+from .log_option import LOG_OPT, LOG_SIZE_OPT, log_file, logged_seed
 from .web_client import TOKEN_VARIABLE
 
 SHORTEST_TOKEN = 16
@@ -59,6 +59,7 @@ def screen(
         need("uvicorn", "studio", "the screen")
     except MissingTool as e:
         raise fail(f"baxterface screen: {e}") from None
+    seed = logged_seed(log, seed)
     logged = log_file(log, log_size, "screen", seed=seed)
     script = None
     if script_path is not None:

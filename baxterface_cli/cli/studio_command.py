@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import random
 import secrets
 import time
 from pathlib import Path
@@ -20,7 +19,7 @@ from .app import (
     fitted_theme,
 )
 from .finite_numbers import finite
-from .log_option import LOG_OPT, LOG_SIZE_OPT, log_file, open_log
+from .log_option import LOG_OPT, LOG_SIZE_OPT, log_file, logged_seed, open_log
 
 
 def studio(
@@ -76,8 +75,7 @@ def studio(
         raise fail(f"baxterface studio: {path} is a folder; give a script file", 2)
     if not path.parent.resolve().is_dir():
         raise fail(f"baxterface studio: no folder {path.parent} to keep {path.name} in", 2)
-    if log is not None and seed is None:  # the log says the seed, so its replay chooses as the studio did
-        seed = random.randrange(2**31)
+    seed = logged_seed(log, seed)
     logged = log_file(log, log_size, "studio", seed=seed)
     start_in_background()  # the speech process starts as the theme is fitted: no `say` waits for it
     renderer = Renderer(fitted_theme(theme, size, "studio"))

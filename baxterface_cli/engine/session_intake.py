@@ -292,7 +292,7 @@ class SessionIntake(ClosedOnExit):
         return (kind, False) + self._events.popleft()
 
     def _note(self, item) -> None:
-        """The input, as it arrived, in the session's log file (if it has one)."""
+        """The input, as it came and when it took effect, in the session's log file (if it has one)."""
         if self.record is None:
             return
         if item[0] == "event":
@@ -304,37 +304,51 @@ class SessionIntake(ClosedOnExit):
         name = said.filename if isinstance(said, n.Script) else self.filename
         self.record.script(at, text, name, kind == "queue")
 
+    def _taking(self, item, at: float):
+        """`item` as it takes effect: at `at`, or at the session's clock if a frame moved it past
+        that meanwhile; noted in the log file at that time. Called with the session's lock held,
+        until the item is taken, so the log's time is the one the session used."""
+        item = (*item[:4], max(at, self.session.clock), *item[5:])
+        self._note(item)
+        return item
+
     def _do(self, item) -> None:
         if item[0] == "event":
-            self._note(item)
-            _, _, _, event, at, source, done = item
-            self.posted += 1
-            if done is None:
-                self.session.post(event, at, source)
-                return
-            if done.set_running_or_notify_cancel():
-                try:  # what this event did, counted as it is handed over: others may come meanwhile
-                    before = _totals(self.session)
-                    self.session.post(event, at, source)
-                    after = _totals(self.session)
-                    done.set_result({k: after[k] - before[k] for k in after})
-                except Exception as e:  # noqa: BLE001 - its sender answers it
-                    done.set_exception(e)
+            with self.session.lock:
+                _, _, _, event, at, source, done = self._taking(item, item[4])
+                self._post(event, at, source, done)
             return
         kind, replaced, _, said, at, done = item
         if done is not None and not done.set_running_or_notify_cancel():
-            self._note(item)
+            with self.session.lock:
+                self._taking(item, at)
             return
         script = self._read(said)
         if script is not None and said_ahead(script):
-            # Its first words synthesised before it starts: it starts now, its speech whole, where
-            # starting at its arrival would have cut the synthesis's time (a natural voice's 20 to
-            # 190 ms) from the start of its sound and mouth.
+            # Its first words synthesised before it starts (outside the lock: frames go on): it
+            # starts now, its speech whole, where starting at its arrival would have cut the
+            # synthesis's time (a natural voice's 20 to 190 ms) from its sound and mouth.
             at = max(at, self.clock())
-            item = item[:4] + (at,) + item[5:]
-        self._note(item)
-        if script is None:
+        with self.session.lock:
+            at = self._taking(item, at)[4]
+            if script is not None:
+                self._start(kind, replaced, script, at, done)
+
+    def _post(self, event: n.Event, at: float, source: str, done: Optional[Future]) -> None:
+        self.posted += 1
+        if done is None:
+            self.session.post(event, at, source)
             return
+        if done.set_running_or_notify_cancel():
+            try:  # what this event did, counted as it is handed over: others may come meanwhile
+                before = _totals(self.session)
+                self.session.post(event, at, source)
+                after = _totals(self.session)
+                done.set_result({k: after[k] - before[k] for k in after})
+            except Exception as e:  # noqa: BLE001 - its sender answers it
+                done.set_exception(e)
+
+    def _start(self, kind: str, replaced: bool, script: n.Script, at: float, done: Optional[Future]) -> None:
         kept = _kept_of(script) if replaced else None
         if kept is not None:  # another take-over waits: this one would be replaced as it started
             self.dropped += 1
@@ -347,7 +361,7 @@ class SessionIntake(ClosedOnExit):
             return
         if kind == "take over":
             self.waiting.clear()
-        self._run(script, max(at, self.session.clock), done)
+        self._run(script, at, done)
 
     def _read(self, text: Sent) -> Optional[n.Script]:
         if isinstance(text, n.Script):

@@ -45,13 +45,16 @@ SWITCH_INTERVAL = 0.001
 FULL_COLLECTION_EVERY = 1000
 
 
-def _log_file(settings: NodeSettings, warn: Callable[[str], None], end: str) -> Optional[SessionLogFile]:
-    """The session's log file of the `log` setting, or None; it ends when the intake closes."""
+def _log_file(
+    settings: NodeSettings, warn: Callable[[str], None], end: str, seed: Optional[int]
+) -> Optional[SessionLogFile]:
+    """The session's log file of the `log` setting, or None; it ends when the intake closes. The
+    session's `seed` in its settings: a replay's `one of`s and faces choose as the session's did."""
     if settings.log is None:
         return None
     kept = {k: v for k, v in dataclasses.asdict(settings).items() if k not in ("log", "log_size")}
     size = int(settings.log_size * 1024 * 1024)
-    return SessionLogFile(settings.log, time.monotonic(), {"end": end, **kept}, warn, size)
+    return SessionLogFile(settings.log, time.monotonic(), {"end": end, "seed": seed, **kept}, warn, size)
 
 
 class FaceLoop:
@@ -68,8 +71,10 @@ class FaceLoop:
         state: bool = True,
         filename: str = "display_chatter",
         end: str = "node",
+        seed: Optional[int] = None,
     ) -> None:
-        """`end`: what runs it (node, stream), as its log file's first record says."""
+        """`end`: what runs it (node, stream), and `seed`, the session's, as its log file's first
+        record says."""
         self.link = link
         self.session = session
         self.live = session.face  # read by the loop without the session's lock
@@ -91,7 +96,7 @@ class FaceLoop:
             ready=self.wake.set,
             log=self._logged,
             filename=filename,
-            record=_log_file(settings, log.warn, end),
+            record=_log_file(settings, log.warn, end, seed),
         )
         self.saying: Optional[Tuple[str, float]] = None  # (text, when it ends) while the face speaks
         self.senses = RobotSenses(link, self.intake, settings, self._speak, log.warn, log.info)
@@ -100,6 +105,12 @@ class FaceLoop:
         self.jpeg = CompressedFrames(link, self.image_pub.topic)  # JPEGs only while someone subscribes
         self.state_pub = link.publisher(STATE, "std_msgs/String", latched=True, queue=1) if state else None
         self.shown_timeline: Any = self.live.timeline  # a new one: a step began (speech cut, state sent)
+        # A frame's header.stamp is the wall clock at its `now`, from one pair of readings: the
+        # session log's start, when there is one, so a stamp less the log's `unix` is its `t`.
+        record = self.intake.record
+        self.clock_at, self.wall_at = (
+            (record.origin, record.unix) if record is not None else (time.monotonic(), time.time())
+        )
         self.last_key: Any = None
         self.last_frame_at = -math.inf
         self.change_polling = ChangePolling()  # after a command, looked at often until it shows
@@ -198,7 +209,7 @@ class FaceLoop:
         if key == self.last_key and not force:
             return False
         frame = self.renderer.render(state)
-        self.image_pub.publish(**image_fields(frame))
+        self.image_pub.publish(**image_fields(frame, self.wall_at + (now - self.clock_at)))
         self.jpeg.offer(frame)
         self.last_key, self.last_frame_at = key, now
         return True

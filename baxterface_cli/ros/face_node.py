@@ -24,6 +24,7 @@ words from `_listen` (node_ears.py).
 
 from __future__ import annotations
 
+import random
 import time
 from typing import Any, List
 
@@ -85,15 +86,17 @@ class FaceNode:
             warn=self.log.warn,
             refusal=f"this face node reads no recordings; start it with {recordings_hint(link.version)}",
         )
+        # Drawn here, not left to the session: the log says it, and a replay chooses as the face did.
+        seed = random.randrange(2**31)
         self.session = LiveSession(
             start=sleep_face(),
             idle=settings.idle,
             now=time.monotonic(),
             recordings=recordings,
-            seed=None,
+            seed=seed,
             keep_up=True,
         )
-        self.loop = FaceLoop(link, self.session, settings, renderer, self.speaker, self.log)
+        self.loop = FaceLoop(link, self.session, settings, renderer, self.speaker, self.log, seed=seed)
         self.intake = self.loop.intake
         link.subscribe(CHATTER, "std_msgs/String", lambda msg: self._heard(msg, False), queue=100)
         link.subscribe(QUEUE, "std_msgs/String", lambda msg: self._heard(msg, True), queue=100)

@@ -8,18 +8,21 @@ from __future__ import annotations
 
 import struct
 from types import SimpleNamespace
-from typing import Any, Dict
+from typing import Any, Dict, Optional
 
 import numpy as np
 
 CAMERA_ENCODINGS = ("bgr8", "rgb8", "mono8")
 
 
-def image_fields(frame: np.ndarray) -> Dict[str, Any]:
-    """A (height, width, 3) B, G, R frame as an Image message's fields, encoding bgr8."""
+def image_fields(frame: np.ndarray, stamp: Optional[float] = None) -> Dict[str, Any]:
+    """A (height, width, 3) B, G, R frame as an Image message's fields, encoding bgr8; `stamp`,
+    seconds since the epoch, as `stamp`: (sec, nanosec), the links' header.stamp."""
     height, width = frame.shape[:2]
     pixels = np.ascontiguousarray(frame, dtype=np.uint8)
+    stamped = {} if stamp is None else {"stamp": divmod(round(stamp * 1e9), 1_000_000_000)}
     return {
+        **stamped,
         "height": height,
         "width": width,
         "encoding": "bgr8",
@@ -69,7 +72,7 @@ def _align(out: bytearray, size: int) -> None:
 def image_cdr(fields: Dict[str, Any], frame_id: str = "") -> bytes:
     """A sensor_msgs/msg/Image as ROS 2's serialized bytes, from `image_fields`' fields."""
     out = bytearray(_CDR_LE)
-    out += struct.pack("<iI", 0, 0)  # header.stamp: none, as cv_bridge leaves it
+    out += struct.pack("<iI", *fields.get("stamp", (0, 0)))  # header.stamp (none: as cv_bridge leaves it)
     _cdr_string(out, frame_id)
     _align(out, 4)
     out += struct.pack("<II", fields["height"], fields["width"])

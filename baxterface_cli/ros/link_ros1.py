@@ -20,7 +20,7 @@ IMAGE_BUFFER = 1 << 24  # bytes: room for a whole 1280x800 image, so only the ne
 
 class _RospyPublisher(Publisher):
     def __init__(self, rospy: Any, topic: str, cls: Any, latched: bool, queue: int) -> None:
-        self.cls = cls
+        self.cls, self.time = cls, rospy.Time
         if queue <= 0:  # synchronous: when publish returns, the message is in the listeners' sockets
             with warnings.catch_warnings():  # rospy warns of a publisher without a queue: that is the point
                 warnings.simplefilter("ignore")
@@ -30,6 +30,10 @@ class _RospyPublisher(Publisher):
         self.topic = self.pub.resolved_name
 
     def publish(self, **fields: Any) -> None:
+        if "stamp" in fields:  # (sec, nanosec): the message's header.stamp (images.py)
+            from std_msgs.msg import Header
+
+            fields["header"] = Header(stamp=self.time(*fields.pop("stamp")))
         self.pub.publish(self.cls(**fields))
 
     def listeners(self) -> int:

@@ -68,7 +68,7 @@ class _RclpyPublisher(Publisher):
         if self.serialized:
             self.pub.publish(image_cdr(fields))
         else:
-            self.pub.publish(self.cls(**_uint8_arrays(fields)))
+            self.pub.publish(self.cls(**_uint8_arrays(fields)))  # no `stamp`: only images have one
 
     def listeners(self) -> int:
         return self.pub.get_subscription_count()

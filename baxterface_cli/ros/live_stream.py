@@ -10,6 +10,7 @@ face node's, if one runs.
 
 from __future__ import annotations
 
+import random
 import time
 from typing import Any, List, Optional
 
@@ -60,10 +61,14 @@ def stream_live(
     with open_link(version, "baxterface_stream", argv, anonymous=True, leaving="streamed") as link:
         backlog = Backlog(link.log)
         speaker = open_speaker(audio or default_audio(version), link, backlog.warn, "--audio")
-        session = LiveSession(now=time.monotonic(), keep_up=True, **(session_options or {}))
+        options = dict(session_options or {})
+        if options.get("seed") is None:  # drawn here: the log says it, and a replay chooses as this did
+            options["seed"] = random.randrange(2**31)
+        session = LiveSession(now=time.monotonic(), keep_up=True, **options)
         loop = FaceLoop(
-            link, session, settings, renderer, speaker, backlog, filename=script.filename, end="stream"
-        )
+            link, session, settings, renderer, speaker, backlog, filename=script.filename, end="stream",
+            seed=options["seed"],
+        )  # fmt: skip
 
         def heard(msg: Any) -> None:  # display_chatter: the signals only
             if SIGNAL_ALONE.fullmatch(msg.data):
