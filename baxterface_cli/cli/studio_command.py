@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import secrets
 import time
 from pathlib import Path
@@ -80,34 +81,33 @@ def studio(
     start_in_background()  # the speech process starts as the theme is fitted: no `say` waits for it
     renderer = Renderer(fitted_theme(theme, size, "studio"))
     renderer.prepare_in_background()
-    try:
-        record = open_log(
-            logged, time.monotonic(), lambda text: typer.echo(f"baxterface studio: {text}", err=True)
-        )
-        workspace = Workspace(path, Path(panel) if panel else None, seed, idle, topic=topic, record=record)
-    except PanelError as e:
-        raise fail(f"baxterface studio: {e}") from None
-    except ScriptError as e:
-        raise fail(e.render()) from None
-    token = None if is_loopback(host) else secrets.token_urlsafe(18)
-    try:
-        sock = bind(host, port)
-    except OSError as e:
-        raise fail(f"baxterface studio: cannot serve on {host}:{port}: {e.strerror or e}") from None
-    url = url_for(host, sock.getsockname()[1], token)
-    made = "" if path.exists() else f" ({path.name} is made on first save)"
-    served = create_app(workspace, renderer, fps, token).serving("studio", host, sock.getsockname()[1])
+    said = lambda text: typer.echo(f"baxterface studio: {text}", err=True)  # noqa: E731 - the log's warnings
+    # The session's log, closed however the studio ends: a script it refuses, a port taken, Ctrl-C.
+    with open_log(logged, time.monotonic(), said) or contextlib.nullcontext() as record:
+        try:
+            buttons = Path(panel) if panel else None
+            workspace = Workspace(path, buttons, seed, idle, topic=topic, record=record)
+        except PanelError as e:
+            raise fail(f"baxterface studio: {e}") from None
+        except ScriptError as e:
+            raise fail(e.render()) from None
+        token = None if is_loopback(host) else secrets.token_urlsafe(18)
+        try:
+            sock = bind(host, port)
+        except OSError as e:
+            raise fail(f"baxterface studio: cannot serve on {host}:{port}: {e.strerror or e}") from None
+        url = url_for(host, sock.getsockname()[1], token)
+        made = "" if path.exists() else f" ({path.name} is made on first save)"
+        served = create_app(workspace, renderer, fps, token).serving("studio", host, sock.getsockname()[1])
 
-    def ready() -> None:
-        typer.echo(f"baxterface studio: {url}  editing {path}{made}; Ctrl-C stops", err=True)
-        if not no_browser:
-            import webbrowser
+        def ready() -> None:
+            typer.echo(f"baxterface studio: {url}  editing {path}{made}; Ctrl-C stops", err=True)
+            if not no_browser:
+                import webbrowser
 
-            webbrowser.open(url)
+                webbrowser.open(url)
 
-    stopped_by = serve(served, sock, ready, log=server_log)
-    if record is not None:
-        record.close()
+        stopped_by = serve(served, sock, ready, log=server_log)
     if workspace.text != workspace.saved:
         typer.echo(
             f"baxterface studio: stopped; the editor's last changes to {path.name} were not saved", err=True
