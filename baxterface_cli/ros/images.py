@@ -6,9 +6,10 @@ array of bytes on the other, and NumPy reads both without copying.
 
 from __future__ import annotations
 
+import math
 import struct
 from types import SimpleNamespace
-from typing import Any, Dict, Optional
+from typing import Any, Dict, Optional, Tuple
 
 import numpy as np
 
@@ -20,9 +21,8 @@ def image_fields(frame: np.ndarray, stamp: Optional[float] = None) -> Dict[str, 
     seconds since the epoch, as `stamp`: (sec, nanosec), the links' header.stamp."""
     height, width = frame.shape[:2]
     pixels = np.ascontiguousarray(frame, dtype=np.uint8)
-    stamped = {} if stamp is None else {"stamp": divmod(round(stamp * 1e9), 1_000_000_000)}
     return {
-        **stamped,
+        **({} if stamp is None else {"stamp": _sec_nanosec(stamp)}),
         "height": height,
         "width": width,
         "encoding": "bgr8",
@@ -30,6 +30,14 @@ def image_fields(frame: np.ndarray, stamp: Optional[float] = None) -> Dict[str, 
         "step": width * 3,
         "data": pixels.tobytes(),
     }
+
+
+def _sec_nanosec(stamp: float) -> Tuple[int, int]:
+    """Seconds as a header's (sec, nanosec): the fraction scaled alone (as nanoseconds since the
+    epoch, a float keeps only a quarter of a microsecond)."""
+    sec = math.floor(stamp)
+    nanosec = round((stamp - sec) * 1e9)
+    return (sec + 1, 0) if nanosec >= 1_000_000_000 else (sec, nanosec)
 
 
 def image_pixels(msg: Any) -> np.ndarray:

@@ -93,3 +93,6 @@ def test_frames_as_cdr_are_what_rclpy_reads_and_rclpy_s_are_what_we_read():
             frame_id,
         )
         assert bytes(theirs.data) == fields["data"] and (image_pixels(theirs) == image_pixels(ours)).all()
+    # A frame's stamp (the node's: the wall clock of the moment it shows) in its header.
+    stamped = deserialize_message(image_cdr(image_fields(pixels, 1795930399.380713)), Image)
+    assert stamped.header.stamp.sec == 1795930399 and abs(stamped.header.stamp.nanosec - 380713000) < 1000
