@@ -367,6 +367,7 @@ def test_enable_is_repeated_until_the_robot_agrees(ros, node):
     # which it would ask 5 more times if it had not stopped. Then `disable`: its False comes after
     # any True the node sent before it, on the one connection.
     screen = Topic("/robot/xdisplay", Image)
+    screen.wait_for_publisher()  # connected before the look: a loaded machine took 2 s to connect
     chatter("look left in 2s")
     screen.wait_for_count(15)
     chatter("disable")
@@ -426,6 +427,7 @@ def test_exit_publishes_the_sleep_face_then_ends_with_status_0(ros, node):
     chatter("happy")
     report(state, test=lambda r: r["emotion"] == "happy")
     screen = Topic("/robot/xdisplay", Image)
+    screen.wait_for_publisher()  # its last frame heard, however slowly the connection is made
     chatter("exit")
     assert proc.wait(timeout=20) == 0
     last = screen.messages[-1][1]
