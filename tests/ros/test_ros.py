@@ -103,13 +103,19 @@ class Topic:
 
 
 def start_node(ros, *args):
-    return subprocess.Popen(
+    """The node, its output read as it comes into `proc.output`: a pipe nobody read filled with a
+    flood's log lines (64 KB) and held the node's logging, so it never stopped on SIGTERM."""
+    proc = subprocess.Popen(
         [sys.executable, "-m", "baxterface_cli", "node", "_idle:=false", *args],
         cwd=str(ROOT),
         env=ros,
         stdout=subprocess.PIPE,
         stderr=subprocess.STDOUT,
     )
+    proc.output = bytearray()
+    proc.drained = threading.Thread(target=lambda: [proc.output.extend(b) for b in proc.stdout], daemon=True)
+    proc.drained.start()
+    return proc
 
 
 @contextlib.contextmanager
@@ -440,7 +446,8 @@ def test_sigterm_ends_the_node_cleanly(ros, node):
     proc, state = node
     proc.send_signal(signal.SIGTERM)
     assert proc.wait(timeout=20) == 0
-    assert b"Traceback" not in proc.stdout.read()
+    proc.drained.join(timeout=20)
+    assert b"Traceback" not in proc.output
 
 
 def test_send_checks_first_and_needs_a_listener(ros, node):
@@ -1513,7 +1520,9 @@ def test_the_node_hears_a_word_from_its_listen_recording_and_runs_the_handler(ro
     finally:
         state.close()
         proc.send_signal(signal.SIGTERM)
-        out = proc.communicate(timeout=20)[0].decode()
+        proc.wait(timeout=20)
+        proc.drained.join(timeout=20)
+        out = proc.output.decode()
         forget_parameters(ros)
     assert proc.returncode == 0 and "Traceback" not in out, out
     assert f"listening: listening to {robot_wav} as a microphone" in out and 'heard word "robot"' in out
