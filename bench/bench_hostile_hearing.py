@@ -74,7 +74,8 @@ def handlers(phrases) -> str:
 
 
 def phrases(folder: Path) -> None:
-    from baxterface_cli.speech.word_spotter import WordError, read_recording, spot_samples
+    from baxterface_cli.speech.listening import spot_samples
+    from baxterface_cli.speech.word_spotter import WordError, read_recording
 
     speech = read_recording(str(ROOT / "scripts_examples" / "greeting.ogg"))
     speech = np.concatenate([speech, speech])

@@ -272,11 +272,11 @@ class WallFrames(Frames):
 
 def word(count):
     from baxterface_cli.ros.connect import open_link
-    from baxterface_cli.speech.word_spotter import spot_file
+    from baxterface_cli.speech.listening import spot_file
 
     wav = Path(tempfile.mkdtemp(prefix="bench-word-")) / "that.wav"
     subprocess.run(["espeak-ng", "-v", "en-us", "-w", str(wav), "look at that robot"], check=True)
-    heard = spot_file(str(wav), ["robot"])
+    heard = spot_file(str(wav), ["robot"]).words
     if not heard:
         raise SystemExit("bench_reacting: the spotter does not hear 'robot' in the recording")
     word_end = heard[0].at

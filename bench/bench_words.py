@@ -44,7 +44,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
-from baxterface_cli.speech import phrase_ctc  # noqa: E402
+from baxterface_cli.speech import listening, phrase_ctc  # noqa: E402
 from baxterface_cli.speech import word_spotter as ws  # noqa: E402
 
 WORDS = ("hello", "goodbye", "robot")
@@ -135,7 +135,7 @@ def accuracy(voices: Sequence[str], folder: str, settings: Sequence[Dict[str, ob
         rows, cpu = [], 0.0
         for voice, (samples, spans) in zip(voices, tracks):
             began = time.process_time()
-            heard = ws.spot_samples(samples, WORDS, **options)  # type: ignore[arg-type]
+            heard = spot_samples(samples, WORDS, **options)
             cpu += time.process_time() - began
             s = score(heard, spans, len(samples) / ws.RATE)
             rows.append(f"{voice} {s['hits']}/{s['said']} {s['alarms']}fa")
@@ -152,6 +152,11 @@ def accuracy(voices: Sequence[str], folder: str, settings: Sequence[Dict[str, ob
         )
 
 
+def spot_samples(samples, words, **options):
+    """The word spotter's phrases (bench_hearing.py measures Moonshine's listener)."""
+    return listening.spot_samples(samples, words, **{"method": "spotter", **options}).words
+
+
 def own_speech(folder: str) -> None:
     rng = np.random.default_rng(3)
     samples, spans = track("en-us", folder, rng)
@@ -160,8 +165,8 @@ def own_speech(folder: str) -> None:
     def speaking(t: float) -> bool:
         return any(start <= t <= end for start, end in saying)
 
-    spotter_heard = ws.spot_samples(samples, WORDS, speaking=speaking)
-    everything = ws.spot_samples(samples, WORDS, barge_in=True)
+    spotter_heard = spot_samples(samples, WORDS, speaking=speaking)
+    everything = spot_samples(samples, WORDS, barge_in=True)
     phrases = sum(1 for _, _, t in spans for w in WORDS if w in t)
     print(
         f"  the face saying {len(spans)} sentences ({phrases} phrases): {len(spotter_heard)} words told "

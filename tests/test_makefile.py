@@ -30,5 +30,5 @@ def test_make_play_installs_speech_and_its_sound_but_not_the_tests_tools(tmp_pat
 
 def test_make_test_installs_every_extra(tmp_path):
     extras, _ = planned_installs("test", tmp_path)
-    wanted = {"test", "video", "bag", "speech", "lipsync", "camera", "studio", "voices"}
+    wanted = {"test", "video", "bag", "speech", "lipsync", "camera", "studio", "voices", "hear"}
     assert any(wanted <= set(line.split(",")) for line in extras), extras

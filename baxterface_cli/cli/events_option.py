@@ -29,7 +29,8 @@ HEAR_OPT = typer.Option(
     "--hear",
     metavar="FILE.wav[@T]",
     help="A recording, starting T seconds in (FILE.wav@8s; 0 by default): the script's 'word' phrases "
-    "heard in it are events at the times they end; render mixes it into the sound.",
+    "heard in it are events at the times they end, each utterance a 'heard' event (with the [hear] "
+    "extra); render mixes it into the sound.",
 )
 PLACED = re.compile(r"(?P<path>.+)@(?P<start>[0-9]+(?:\.[0-9]+)?)s?")
 LISTEN_OPT = typer.Option(
@@ -105,15 +106,18 @@ def events_trace(script: Script, events: Optional[str], hear: Optional[str], com
 
 def heard_words(script: Script, path: str, command: str) -> List[Tuple[float, Any]]:
     """(when it ended, a `word` event) for each of the script's phrases heard in the recording at
-    `path` (any sound file `say file` takes)."""
+    `path` (any sound file `say file` takes), and a `heard` event for each whole utterance where the
+    listener tells them (in time order: an utterance's words before it)."""
     from ..extras import MissingTool
+    from ..language.events import MOST_HEARD
     from ..language.syntax_tree import Event
     from ..speech.audio_files import AudioError
 
     words = phrases_wanted(script, command, "--hear")
     path, start = placed(path, command)
     try:
-        from ..speech.word_spotter import WordError, spot_file
+        from ..speech.listening import spot_file
+        from ..speech.word_spotter import WordError
 
         heard = spot_file(path, words)
     except MissingTool as e:
@@ -122,7 +126,9 @@ def heard_words(script: Script, path: str, command: str) -> List[Tuple[float, An
         raise fail(f"baxterface {command}: --hear: {e}", 2) from None
     except AudioError as e:
         raise fail(f"baxterface {command}: --hear: {path}: {e}") from None
-    return [(start + h.at, Event("word", h.word)) for h in heard]
+    found = [(start + h.at, Event("word", h.word)) for h in heard.words]
+    found += [(start + s.at, Event("heard", s.text[:MOST_HEARD])) for s in heard.said]
+    return sorted(found, key=lambda pair: pair[0])
 
 
 def placed(hear: str, command: str) -> Tuple[str, float]:

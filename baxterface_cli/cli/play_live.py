@@ -118,12 +118,19 @@ def _listen(stack: contextlib.ExitStack, player, words: List[str], barge_in: boo
     """The microphone, its words heard by a spotter and posted to the player; a one-line exit if
     either is missing."""
     from ..extras import MissingTool
+    from ..speech.listening import listener
     from ..speech.sound_device import Microphone, MicrophoneError
-    from ..speech.word_spotter import WordError, WordSpotter
+    from ..speech.word_spotter import WordError
 
     try:
-        spotter = WordSpotter(
-            words, player.hear, clock=player.now, speaking=player.speaking, barge_in=barge_in
+        spotter = listener(
+            words,
+            player.hear,
+            clock=player.now,
+            speaking=player.speaking,
+            barge_in=barge_in,
+            on_heard=player.hear_said,
+            saying=player.saying,
         )
     except (MissingTool, WordError) as e:
         raise fail(f"baxterface play: --listen: {e}", 2) from None

@@ -19,7 +19,7 @@ class SpeakingTimes:
 
     def __init__(self) -> None:
         self.timeline: Any = None  # the timeline whose speech was read last
-        self._spans: List[Tuple[float, float]] = []
+        self._spans: List[Tuple[float, float, str]] = []  # (start, end, what was said)
         self._lock = threading.Lock()
 
     def follow(self, timeline: Any, started: float, now: float) -> bool:
@@ -27,12 +27,17 @@ class SpeakingTimes:
         if timeline is self.timeline:
             return False
         self.timeline = timeline
-        spans = [(started + s.at, started + s.at + s.utterance.duration) for s in timeline.speech]
+        spans = [(started + s.at, started + s.end, s.utterance.text) for s in timeline.speech]
         with self._lock:  # what was cut short was said until now
-            self._spans = [(a, min(b, now)) for a, b in self._spans if a < now][-KEPT:] + spans
+            self._spans = [(a, min(b, now), text) for a, b, text in self._spans if a < now][-KEPT:] + spans
         return True
 
     def speaking(self, at: float) -> bool:
         """Was the face speaking at `at`?"""
         with self._lock:
-            return any(start <= at <= end for start, end in self._spans)
+            return any(start <= at <= end for start, end, _ in self._spans)
+
+    def saying(self, start: float, end: float) -> str:
+        """The words of what the face said at some time between `start` and `end`."""
+        with self._lock:
+            return " ".join(text for a, b, text in self._spans if a <= end and start <= b)

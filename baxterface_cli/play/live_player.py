@@ -22,6 +22,7 @@ from ..engine.live_session import LiveSession
 from ..engine.session_log_file import SessionLogFile
 from ..engine.speaking_times import SpeakingTimes
 from ..language import syntax_tree as n
+from ..language.events import MOST_HEARD
 from ..speech.sound_device import SoundOut, SpeechCues
 from .player import status_line
 
@@ -81,6 +82,10 @@ class LivePlayer:
         """A word heard, ending at `at` (the player's clock): the spotter's `on_word`."""
         self._put(n.Event("word", word), at, "microphone")
 
+    def hear_said(self, text: str, at: float) -> None:
+        """A whole utterance heard, ending at `at`: the listener's `on_heard`."""
+        self._put(n.Event("heard", text[:MOST_HEARD]), at, "microphone")
+
     def touch(self, x: float, y: float) -> None:
         """A click at (x, y), fractions of the picture's width and height."""
         state = self._state
@@ -90,6 +95,10 @@ class LivePlayer:
     def speaking(self, at: float) -> bool:
         """Was the face speaking at `at` (the player's clock)? For the spotter, on its thread."""
         return self._said.speaking(at)
+
+    def saying(self, start: float, end: float) -> str:
+        """What the face said between `start` and `end`: for the listener, with barge-in."""
+        return self._said.saying(start, end)
 
     def _put(self, event: n.Event, at: Optional[float], source: str) -> None:
         with contextlib.suppress(queue.Full):  # a storm beyond what the frames keep up with is lost

@@ -27,6 +27,7 @@ from ..engine.speaking_times import SpeakingTimes
 from ..extras import MissingTool
 from ..language import syntax_tree as n
 from ..language.checker import phrases_listened
+from ..language.events import MOST_HEARD
 
 BLOCK = 0.05  # seconds of sound a block, as the microphone gives them
 TRAILING_QUIET = 1.0  # seconds of silence after a recording: a phrase at its very end is decided
@@ -46,13 +47,14 @@ def words_listened(session: LiveSession) -> List[str]:
 
 
 class Ears(ClosedOnExit):
-    """Sound in (a device or a recording), the words the session listens for out to `hear(word,
-    at)` on the audio's thread; `at` is when the word ended, on `clock`."""
+    """Sound in (a device or a recording), the words the session listens for out to `hear(event,
+    at)` on the audio's thread, as `word` events (and `heard` ones, each utterance's words, where the
+    listener tells them); `at` is when it ended, on `clock`."""
 
     def __init__(
         self,
         session: LiveSession,
-        hear: Callable[[str, float], None],
+        hear: Callable[[n.Event, float], None],
         source: str,
         barge_in: bool = False,
         log: Log = lambda level, text: None,
@@ -79,11 +81,10 @@ class Ears(ClosedOnExit):
 
     def start(self) -> Optional[str]:
         """Open the device, or start the recording's thread; why not, in one line, or None."""
-        from ..extras import need
-        from ..speech.audio_files import EXTRA
+        from ..speech.listening import check
 
         try:
-            need("pocketsphinx", EXTRA, "hearing words")
+            check()
         except MissingTool as e:
             self.shut = True
             return str(e)
@@ -152,8 +153,12 @@ class Ears(ClosedOnExit):
         spotter.feed(block, end=end)
 
     def _heard(self, word: str, at: float) -> None:
-        self.hear(word, at)
+        self.hear(n.Event("word", word), at)
         self.log("info", f'heard word "{word}", {self.clock() - at:.2f} s after it ended')
+
+    def _heard_said(self, text: str, at: float) -> None:
+        self.hear(n.Event("heard", text[:MOST_HEARD]), at)
+        self.log("info", f'heard "{text}", {self.clock() - at:.2f} s after it ended')
 
     # -- the words
 
@@ -180,7 +185,7 @@ class Ears(ClosedOnExit):
 
     def _spotter(self, words: List[str]) -> Any:
         from ..core.face_constants import LIMITS
-        from ..speech.word_spotter import WordSpotter, listenable
+        from ..speech.listening import listenable, listener
 
         try:
             kept, unknown, over = listenable(words)
@@ -198,8 +203,14 @@ class Ears(ClosedOnExit):
         self._over = over
         if not kept:
             return None
-        return WordSpotter(
-            kept, self._heard, clock=self.clock, speaking=self.speaking, barge_in=self.barge_in
+        return listener(
+            kept,
+            self._heard,
+            clock=self.clock,
+            speaking=self.speaking,
+            barge_in=self.barge_in,
+            on_heard=self._heard_said,
+            saying=self._said.saying,
         )
 
     # -- what the face says

@@ -90,7 +90,7 @@ class RobotSenses:
         if settings.listen:
             self.ears = Ears(
                 self.session,
-                lambda word, at: self._raise([n.Event("word", word)], "microphone"),
+                lambda event, at: self._raise([event], "microphone"),
                 settings.listen,
                 settings.barge_in,
                 log=lambda level, text: (info if level == "info" else warn)(f"listening: {text}"),

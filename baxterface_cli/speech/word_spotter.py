@@ -30,7 +30,7 @@ import numpy as np
 
 from ..core.face_constants import LIMITS
 from ..extras import need
-from .audio_files import EXTRA, probe, read_sound
+from .audio_files import EXTRA, read_sound
 
 RATE = 16000  # the English model's
 FRAME = 0.01  # pocketsphinx's frames: 100 a second
@@ -220,44 +220,6 @@ def read_recording(path: str) -> np.ndarray:
     """A recording's samples as 16 kHz mono int16, read as `say file` reads one: any format FFmpeg
     takes, bounded in size, length and time (AudioError, saying why, otherwise)."""
     return read_sound(path).analysis
-
-
-def spot_samples(
-    samples: np.ndarray,
-    words: Sequence[str],
-    block: float = 0.05,
-    speaking: Optional[Callable[[float], bool]] = None,
-    barge_in: bool = False,
-    **options: Any,
-) -> List[Heard]:
-    """The phrases heard in 16 kHz mono samples, fed as a microphone would, in blocks of `block`
-    seconds; times from the recording's start. `options`: WordSpotter's."""
-    spotter = WordSpotter(words, lambda word, at: None, speaking=speaking, barge_in=barge_in, **options)
-    step = max(1, int(block * RATE))
-    for i in range(0, len(samples), step):
-        piece = samples[i : i + step]
-        spotter.feed(piece, end=(i + len(piece)) / RATE)
-    # A phrase at the very end is decided by silence after it, as a microphone would hear.
-    spotter.feed(np.zeros(int(0.5 * RATE), np.int16), end=len(samples) / RATE + 0.5)
-    spotter.close()
-    return spotter.heard
-
-
-def spot_file(path: str, words: Sequence[str], **options: Any) -> List[Heard]:
-    """The phrases heard in a recording (see `spot_samples`). Hearing costs work for each phone of
-    the phrases in each second of sound, so their product is bounded, from the recording's header
-    before it is read (WordError past LIMITS.max_phone_seconds)."""
-    seconds = probe(path)
-    spotter = WordSpotter(words, lambda word, at: None, **options)
-    spotter.close()
-    work = spotter.phones * seconds
-    if work > LIMITS.max_phone_seconds:
-        raise WordError(
-            f"{_phrases(spotter.words)} of {spotter.phones} phones, every spelling counted, over "
-            f"{seconds:.0f} s of sound is too much to listen for ({work:,.0f} phone-seconds; the limit "
-            f"is {LIMITS.max_phone_seconds:,})"
-        )
-    return spot_samples(read_recording(path), words, **options)
 
 
 def _phrases(words: Sequence[str]) -> str:

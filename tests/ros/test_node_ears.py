@@ -37,7 +37,10 @@ def test_a_recording_plays_once_a_word_is_listened_for_and_its_word_is_heard(rob
     session = LiveSession(now=time.monotonic())
     heard, said = [], []
     ears = Ears(
-        session, lambda word, at: heard.append((word, at)), str(robot_wav), log=lambda *a: said.append(a)
+        session,
+        lambda event, at: heard.append((event.arg, at)),
+        str(robot_wav),
+        log=lambda *a: said.append(a),
     )
     assert ears.start() is None
     try:
@@ -53,7 +56,7 @@ def test_ears_that_cannot_hear_say_why_in_one_line(tmp_path):
     pytest.importorskip("pocketsphinx")  # without it, that is what they say
     bad = tmp_path / "not.wav"
     bad.write_text("not a sound")
-    ears = Ears(LiveSession(), lambda word, at: None, str(bad))
+    ears = Ears(LiveSession(), lambda event, at: None, str(bad))
     problem = ears.start()
     assert problem.startswith(f"cannot read {bad}") and "\n" not in problem
     ears.close()

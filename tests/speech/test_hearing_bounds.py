@@ -3,7 +3,9 @@ phrase listened for and each phone of its spellings, so a script listens for at 
 LIMITS.max_phrases phrases, a listener for at most LIMITS.max_phones phones, and `--hear` is
 refused up front, from the recording's header, past LIMITS.max_phone_seconds.
 
-The real `baxterface`, pocketsphinx's dictionary, espeak-ng's voice, the node's real ears.
+The real `baxterface`, pocketsphinx's dictionary, espeak-ng's voice, the node's real ears. These are
+the word spotter's bounds: it listens here even where Moonshine is installed (whose work grows with
+the seconds of speech alone).
 """
 
 from __future__ import annotations
@@ -20,6 +22,11 @@ from baxterface_cli.core.face_constants import LIMITS
 from conftest import baxterface
 from listened_words import HEAVY, WORDS
 from waiting import eventually
+
+
+@pytest.fixture(autouse=True)
+def the_spotter_listens(monkeypatch):
+    monkeypatch.setenv("BAXTERFACE_LISTENER", "spotter")
 
 
 def handlers(phrases) -> str:
@@ -95,7 +102,7 @@ def test_the_nodes_ears_listen_for_the_phrases_within_the_phones_and_say_which_n
     session = LiveSession(now=time.monotonic())
     heard, logged = [], []
     ears = Ears(
-        session, lambda word, at: heard.append(word), str(said), log=lambda *line: logged.append(line)
+        session, lambda event, at: heard.append(event.arg), str(said), log=lambda *line: logged.append(line)
     )
     assert ears.start() is None
     try:

@@ -29,7 +29,7 @@ def zero_bytes(path, seconds: float, rate: int = 8000) -> None:
 
 def test_the_listener_does_not_look_at_a_recording_of_zero_bytes(tmp_path, monkeypatch):
     pytest.importorskip("pocketsphinx")
-    from baxterface_cli.speech import phoneme_recogniser, phrase_ctc, word_spotter
+    from baxterface_cli.speech import listening, phoneme_recogniser, phrase_ctc, word_spotter
 
     if not phoneme_recogniser.available():
         pytest.skip("hama's recogniser does not run here: pocketsphinx listens, at 0.03 of real time")
@@ -39,7 +39,7 @@ def test_the_listener_does_not_look_at_a_recording_of_zero_bytes(tmp_path, monke
     monkeypatch.setattr(phrase_ctc.PhraseScorer, "frames", lambda self, s: looks.append(1) or frames(self, s))
     samples = word_spotter.read_recording(str(tmp_path / "zeros.wav"))
     assert len(set(samples.tolist())) == 1  # a constant, at full scale
-    assert word_spotter.spot_samples(samples, ["hello"]) == []
+    assert listening.spot_samples(samples, ["hello"], method="spotter").words == []
     # only until a window of it is known to be quiet, as for any silence; before: 400, each 0.15 s
     assert len(looks) <= 10
 

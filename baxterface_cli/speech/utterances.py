@@ -1,0 +1,228 @@
+"""Words heard as a person hears them: utterances found, transcribed while they go on, and the
+phrases listened for matched in their words (the `[hear]` extra).
+
+Silero's detector (voice_activity.py) gives every 32 ms the chance that someone speaks; an
+utterance begins when it passes `ONSET` (with `LEAD` of the sound before, for the first word's
+start) and ends after `END_QUIET` under `OFFSET`. While it goes on, Moonshine (moonshine.py)
+transcribes its last `WINDOW` seconds every `HOP`; a phrase found as whole words in two looks in a
+row is told to `on_word` at once, one found in the whole utterance's words when it ends is told
+then. Each phrase is told once an utterance; the whole utterance's words go to `on_heard`.
+
+The looks cost work only while someone speaks; they are spaced so that listening takes at most
+`CPU_SHARE` of a core (a slower machine looks less often, and hears a phrase later, not less).
+
+The face does not hear itself: sound heard while `speaking(at)` says the face was speaking, or
+within `ECHO` after, is taken as silence, unless `barge_in`; then an utterance the face spoke in
+has no phrase told that the face itself was saying then (`saying(start, end)`: its words), and
+is not told at all if all its words are the face's.
+"""
+
+from __future__ import annotations
+
+import re
+import threading
+import time
+from collections import Counter
+from typing import Callable, List, NamedTuple, Optional, Sequence, Set
+from typing import Counter as Counts
+
+import numpy as np
+
+from . import moonshine
+from .voice_activity import CHUNK, VoiceActivity
+from .word_spotter import Heard
+
+RATE = 16000
+ONSET = 0.5  # a chunk's speech chance that begins an utterance
+OFFSET = 0.35  # under this, a chunk is quiet
+END_QUIET = 0.5  # seconds of quiet that end an utterance
+LEAD = 0.3  # seconds of sound before the onset an utterance keeps
+SHORTEST = 0.2  # seconds of speech under which a sound is a cough, not an utterance
+LONGEST = 20.0  # seconds after which an utterance is cut (and heard) even if it goes on
+WINDOW = 5.0  # seconds of an utterance's end each look transcribes
+HOP = 0.2  # seconds of sound between two looks, at least
+CPU_SHARE = 0.5  # of a core, at most, that the looks take while someone speaks
+STABLE = 2  # looks in a row a phrase must be found in to be told before its utterance ends
+BIAS = 1.0  # added to the scores of the tokens spelling the phrases: bench/bench_hearing.py --tune
+ECHO = 0.3  # seconds after the face stops speaking that its voice still fills the room
+
+
+class Said(NamedTuple):
+    text: str  # the utterance's words, lower case, without punctuation
+    at: float  # when it ended
+    start: float
+
+
+def words_of(text: str) -> List[str]:
+    """Lower-case words, as a transcript and a phrase are compared: punctuation is a break,
+    apostrophes are kept inside a word ("don't")."""
+    return re.findall(r"[a-z0-9]+(?:'[a-z0-9]+)*", text.lower())
+
+
+def times(words: Sequence[str], phrase: Sequence[str]) -> int:
+    """How often `phrase` is said in `words`, as whole words."""
+    n = len(phrase)
+    return sum(tuple(words[i : i + n]) == tuple(phrase) for i in range(len(words) - n + 1)) if n else 0
+
+
+def holds(words: Sequence[str], phrase: Sequence[str]) -> bool:
+    return times(words, phrase) > 0
+
+
+class UtteranceListener:
+    """Phrases and utterances heard in audio fed block by block (see the module's docstring);
+    the same interface as word_spotter.WordSpotter, and `on_heard(text, at)` besides."""
+
+    method = "moonshine"
+
+    def __init__(
+        self,
+        words: Sequence[str],
+        on_word: Callable[[str, float], None],
+        clock: Optional[Callable[[], float]] = None,
+        speaking: Optional[Callable[[float], bool]] = None,
+        barge_in: bool = False,
+        on_heard: Optional[Callable[[str, float], None]] = None,
+        saying: Optional[Callable[[float, float], str]] = None,
+        bias: float = BIAS,
+    ) -> None:
+        self.words = list(dict.fromkeys(" ".join(words_of(w)) for w in words if words_of(w)))
+        self._phrases = [(w, w.split()) for w in self.words]
+        self.on_word = on_word
+        self.on_heard = on_heard
+        self.clock = clock
+        self.speaking = speaking
+        self.saying = saying
+        self.barge_in = barge_in
+        self.heard: List[Heard] = []  # every phrase told to on_word, in order
+        self.ignored: List[Heard] = []  # phrases the face itself was saying (with barge-in)
+        self.said: List[Said] = []  # every utterance told to on_heard
+        self.ignored_said: List[Said] = []  # utterances of the face's own words (with barge-in)
+        self.model = moonshine.transcriber()
+        self._favoured = frozenset(t for w in self.words for t in self.model.spelling(w))
+        self.bias = bias
+        self._vad = VoiceActivity()
+        self._lock = threading.Lock()
+        self._fed = 0  # samples fed in all
+        self._pending = np.zeros(0, np.int16)  # fed, short of a whole chunk
+        self._recent = np.zeros(0, np.int16)  # the last LEAD seconds, for an utterance's start
+        self._sound: List[np.ndarray] = []  # the utterance going on, chunk by chunk
+        self._first = 0  # its first sample (since the first fed)
+        self._quiet = 0  # samples of quiet at its end
+        self._spoken = 0  # samples of speech in it
+        self._looked = 0  # samples fed at the last look
+        self._gap = HOP  # seconds of sound before the next look
+        self._told: Counts[str] = Counter()  # times each phrase was told in this utterance
+        self._seen: Set[str] = set()  # phrases found in the last look
+
+    def feed(self, block: np.ndarray, end: Optional[float] = None) -> List[Heard]:
+        """Take a block of 16 kHz mono int16 samples; the phrases told because of it."""
+        samples = np.ascontiguousarray(block, dtype=np.int16).reshape(-1)
+        if end is None:
+            end = self.clock() if self.clock is not None else (self._fed + len(samples)) / RATE
+        told: List[Heard] = []
+        with self._lock:
+            self._fed += len(samples)
+            origin = end - self._fed / RATE  # the caller's time of the first sample fed
+            sound = np.concatenate([self._pending, samples])
+            first = self._fed - len(sound)  # sound[0]'s place among all the samples fed
+            whole = len(sound) // CHUNK * CHUNK
+            for at in range(0, whole, CHUNK):
+                chunk = sound[at : at + CHUNK]
+                start = first + at
+                if self._muted(origin + start / RATE, origin + (start + CHUNK) / RATE):
+                    chunk = np.zeros(CHUNK, np.int16)
+                told += self._chunk(chunk, self._vad.chance(chunk), start, origin)
+                self._recent = np.concatenate([self._recent, chunk])[-int(LEAD * RATE) :]
+            self._pending = sound[whole:]
+        return told
+
+    def _muted(self, start: float, end: float) -> bool:
+        if self.barge_in or self.speaking is None:
+            return False
+        return any(self.speaking(t) for t in (start, end, start - ECHO))
+
+    def _chunk(self, chunk: np.ndarray, chance: float, first: int, origin: float) -> List[Heard]:
+        if not self._sound:
+            if chance < ONSET:
+                return []
+            lead = self._recent
+            self._sound = [lead, chunk]
+            self._first = first - len(lead)
+            self._quiet = self._spoken = 0
+            self._looked = first
+            self._told, self._seen = Counter(), set()
+            return []
+        self._sound.append(chunk)
+        if chance < OFFSET:
+            self._quiet += CHUNK
+        else:
+            self._quiet = 0
+            self._spoken += CHUNK
+        length = sum(len(s) for s in self._sound)
+        if self._quiet >= END_QUIET * RATE or length >= LONGEST * RATE:
+            return self._end(origin)
+        if first + CHUNK - self._looked >= self._gap * RATE and self._quiet == 0:
+            return self._look(origin, first + CHUNK)
+        return []
+
+    def _transcribe(self, sound: np.ndarray) -> List[str]:
+        began = time.perf_counter()
+        text = self.model.transcribe(sound, self._favoured, self.bias)
+        cost = time.perf_counter() - began
+        self._gap = max(HOP, cost / CPU_SHARE)
+        return words_of(text)
+
+    def _look(self, origin: float, upto: int) -> List[Heard]:
+        self._looked = upto
+        sound = np.concatenate(self._sound)[-int(WINDOW * RATE) :]
+        words = self._transcribe(sound)
+        seen = {phrase for phrase, spelled in self._phrases if holds(words, spelled)}
+        stable = (seen & self._seen) if STABLE > 1 else seen
+        self._seen = seen
+        return self._tell([p for p in sorted(stable) if not self._told[p]], origin + upto / RATE, origin)
+
+    def _end(self, origin: float) -> List[Heard]:
+        sound = np.concatenate(self._sound)
+        self._sound = []
+        if self._spoken < SHORTEST * RATE:
+            return []
+        last = self._first + len(sound) - self._quiet  # the speech's end
+        words = self._transcribe(sound[: len(sound) - self._quiet + int(0.1 * RATE)])
+        more = [p for p, spelled in self._phrases for _ in range(times(words, spelled) - self._told[p])]
+        told = self._tell(more, origin + last / RATE, origin)
+        said = Said(" ".join(words), origin + last / RATE, origin + self._first / RATE)
+        if not words:
+            return told
+        if set(words) <= set(self._own(said.start, said.at)):  # the face's own voice, heard with barge-in
+            self.ignored_said.append(said)
+            return told
+        self.said.append(said)
+        if self.on_heard is not None:
+            self.on_heard(said.text, said.at)
+        return told
+
+    def _own(self, start: float, end: float) -> List[str]:
+        """The words the face said from `start` (and ECHO before) to `end`: with barge-in, what
+        the face itself may have been heard saying."""
+        return words_of(self.saying(start - ECHO, end)) if self.barge_in and self.saying is not None else []
+
+    def _tell(self, phrases: Sequence[str], at: float, origin: float) -> List[Heard]:
+        told = []
+        start = origin + self._first / RATE
+        own = self._own(start, at)
+        for phrase in phrases:
+            self._told[phrase] += 1
+            heard = Heard(phrase, at, start)
+            if holds(own, phrase.split()):
+                self.ignored.append(heard)
+                continue
+            self.heard.append(heard)
+            told.append(heard)
+            self.on_word(phrase, at)
+        return told
+
+    def close(self) -> None:
+        """Stop: an utterance still going on is not heard (nothing is listening for it)."""
+        with self._lock:
+            self._sound = []
