@@ -15,7 +15,7 @@ from __future__ import annotations
 import importlib.util
 import os
 import threading
-from typing import Dict, FrozenSet, List, Optional, Sequence
+from typing import Dict, List, Optional, Sequence
 
 import numpy as np
 
@@ -28,6 +28,7 @@ MODEL = ("assets", "tiny-en")
 START, END = 1, 2  # the decoder's first token, and the one that ends the text
 TOKENS_A_SECOND = 6.5  # at most, as Moonshine's own decoder bounds a text by its sound
 LAYERS, HEADS, HEAD_SIZE = 6, 8, 36
+REPEATS = 5  # the same token this many times over ends the text
 SPACE = "\u2581"  # SentencePiece's mark of a word's start
 BYTE_TOKENS = range(3, 259)  # <0x00>..<0xFF>: a byte each, for what the vocabulary lacks
 _LOCK = threading.Lock()  # one model a process, run by one thread at a time
@@ -110,10 +111,10 @@ class Transcriber:
         return data.decode("utf-8", "replace").replace(SPACE, " ").strip()
 
     def transcribe(
-        self, samples: np.ndarray, favoured: FrozenSet[int] = frozenset(), bias: float = 0.0
+        self, samples: np.ndarray, favoured: Sequence[Sequence[int]] = (), bias: float = 0.0
     ) -> str:
         """The words said in `samples` (int16 or float in [-1, 1], 16 kHz); `bias` is added to the
-        scores of the `favoured` tokens."""
+        scores of the tokens that begin or go on with a `favoured` spelling (see `lifted`)."""
         scale = 32768.0 if np.issubdtype(np.asarray(samples).dtype, np.integer) else 1.0
         sound = (np.asarray(samples, np.float32) / scale).reshape(1, -1)
         if sound.shape[1] < RATE // 4:  # the encoder needs a quarter of a second at least
@@ -121,11 +122,9 @@ class Transcriber:
         with _LOCK:
             return self._decode(sound, favoured, bias)
 
-    def _decode(self, sound: np.ndarray, favoured: FrozenSet[int], bias: float) -> str:
-        hidden = self.encoder.run(
-            None, {"input_values": sound, "attention_mask": np.ones(sound.shape, np.int64)}
-        )[0]
-        mask = np.ones(hidden.shape[:2], np.int64)
+    def _decode(self, sound: np.ndarray, favoured: Sequence[Sequence[int]], bias: float) -> str:
+        whole = np.ones(sound.shape, np.int64)
+        hidden = self.encoder.run(None, {"input_values": sound, "attention_mask": whole})[0]
         empty = np.zeros((1, HEADS, 0, HEAD_SIZE), np.float32)
         past = {
             f"past_key_values.{layer}.{part}.{kind}": empty
@@ -133,20 +132,20 @@ class Transcriber:
             for part in ("decoder", "encoder")
             for kind in ("key", "value")
         }
-        lift = np.array(sorted(favoured), np.int64)
         said: List[int] = []
         last, cached = START, False
         for _ in range(int(sound.shape[1] / RATE * TOKENS_A_SECOND) + 4):
             feed = {
                 "input_ids": np.array([[last]], np.int64),
                 "encoder_hidden_states": hidden,
-                "encoder_attention_mask": mask,
+                "encoder_attention_mask": whole,  # over the samples: the decoder scales it down
                 "use_cache_branch": np.array([cached]),
                 **past,
             }
             results = self.decoder.run(None, feed)
             scores = results[0][0, -1]
-            if bias and len(lift):
+            lift = lifted(favoured, said) if bias else []
+            if lift:
                 scores = scores.copy()
                 scores[lift] += bias
             last = int(scores.argmax())
@@ -154,10 +153,22 @@ class Transcriber:
                 if not cached or ".decoder." in name:  # the encoder's part is the same at every step
                     past[name.replace("present", "past_key_values")] = value
             cached = True
-            if last == END:
+            if last == END or said[-REPEATS:] == [last] * REPEATS:  # noise read as "♪♪♪♪...": no words
                 break
             said.append(last)
         return self.text(said)
+
+
+def lifted(favoured: Sequence[Sequence[int]], said: Sequence[int]) -> List[int]:
+    """The tokens that would begin a favoured spelling, or take one further whose start the text
+    ends with: the bias follows a phrase token by token ("tell me" then "a", not "the")."""
+    lift = set()
+    for spelled in favoured:
+        lift.add(spelled[0])
+        for k in range(1, min(len(spelled), len(said) + 1)):
+            if list(said[-k:]) == list(spelled[:k]):
+                lift.add(spelled[k])
+    return sorted(lift)
 
 
 def transcriber() -> Transcriber:

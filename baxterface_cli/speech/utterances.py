@@ -3,7 +3,9 @@ phrases listened for matched in their words (the `[hear]` extra).
 
 Silero's detector (voice_activity.py) gives every 32 ms the chance that someone speaks; an
 utterance begins when it passes `ONSET` (with `LEAD` of the sound before, for the first word's
-start) and ends after `END_QUIET` under `OFFSET`. While it goes on, Moonshine (moonshine.py)
+start) and ends after `END_QUIET` under `OFFSET`; a chunk near the room's floor, or far under the
+loudest of the last seconds, is quiet whatever the detector says (voices further away are speech,
+but not the visitor's). While it goes on, Moonshine (moonshine.py)
 transcribes its last `WINDOW` seconds every `HOP`; a phrase found as whole words in two looks in a
 row is told to `on_word` at once, one found in the whole utterance's words when it ends is told
 then. Each phrase is told once an utterance; the whole utterance's words go to `on_heard`.
@@ -23,7 +25,7 @@ import re
 import threading
 import time
 from collections import Counter
-from typing import Callable, List, NamedTuple, Optional, Sequence, Set
+from typing import Callable, List, NamedTuple, Optional, Sequence, Set, Tuple
 from typing import Counter as Counts
 
 import numpy as np
@@ -41,10 +43,16 @@ SHORTEST = 0.2  # seconds of speech under which a sound is a cough, not an utter
 LONGEST = 20.0  # seconds after which an utterance is cut (and heard) even if it goes on
 WINDOW = 5.0  # seconds of an utterance's end each look transcribes
 HOP = 0.2  # seconds of sound between two looks, at least
+FLOOR = 5.0  # seconds of sound whose quietest tenth is the room's floor
+LOUDER = 10 ** (6 / 20)  # speech is 6 dB over the floor, at least
+UNDER = 10 ** (-10 / 20)  # and 10 dB under the loudest, at most
+SMOOTH = 0.38  # seconds the level is measured over
 CPU_SHARE = 0.5  # of a core, at most, that the looks take while someone speaks
 STABLE = 2  # looks in a row a phrase must be found in to be told before its utterance ends
-BIAS = 1.0  # added to the scores of the tokens spelling the phrases: bench/bench_hearing.py --tune
+BIAS = 2.0  # added to the scores of the tokens spelling the phrases: bench/bench_hearing.py --tune
 ECHO = 0.3  # seconds after the face stops speaking that its voice still fills the room
+ARTICLES = ("a", "an", "the")
+WEAK = ("a", "an", "the", "to", "that", "this", "uh")  # what an unstressed article is heard as
 
 
 class Said(NamedTuple):
@@ -59,10 +67,29 @@ def words_of(text: str) -> List[str]:
     return re.findall(r"[a-z0-9]+(?:'[a-z0-9]+)*", text.lower())
 
 
+def forms(phrase: Sequence[str]) -> List[Tuple[str, ...]]:
+    """The phrase, and the same with an article heard as another short word or not at all ("tell
+    me a joke" is heard as "tell me the joke", "tell me to joke"): said unstressed, it is a schwa
+    the recogniser spells as it likes."""
+    found = [tuple(phrase)]
+    for i, word in enumerate(phrase):
+        if word in ARTICLES and len(phrase) > 2:
+            found += [
+                tuple(phrase[:i]) + (other,) + tuple(phrase[i + 1 :]) for other in WEAK if other != word
+            ]
+            found.append(tuple(phrase[:i]) + tuple(phrase[i + 1 :]))
+    return found
+
+
 def times(words: Sequence[str], phrase: Sequence[str]) -> int:
-    """How often `phrase` is said in `words`, as whole words."""
-    n = len(phrase)
-    return sum(tuple(words[i : i + n]) == tuple(phrase) for i in range(len(words) - n + 1)) if n else 0
+    """How often `phrase` is said in `words`, as whole words (any of its `forms`)."""
+    count, i, said = 0, 0, tuple(words)
+    variants = forms(phrase) if phrase else []
+    while i < len(said):
+        size = next((len(v) for v in variants if v and said[i : i + len(v)] == v), 0)
+        count += bool(size)
+        i += size or 1
+    return count
 
 
 def holds(words: Sequence[str], phrase: Sequence[str]) -> bool:
@@ -99,9 +126,12 @@ class UtteranceListener:
         self.said: List[Said] = []  # every utterance told to on_heard
         self.ignored_said: List[Said] = []  # utterances of the face's own words (with barge-in)
         self.model = moonshine.transcriber()
-        self._favoured = frozenset(t for w in self.words for t in self.model.spelling(w))
+        self._favoured = [self.model.spelling(w) for w in self.words]
         self.bias = bias
         self._vad = VoiceActivity()
+        self._powers: List[float] = []  # the last SMOOTH seconds' chunks' mean squares
+        # the level at each chunk over the last FLOOR seconds: silence before the first
+        self._levels = [0.0] * int(FLOOR * RATE / CHUNK)
         self._lock = threading.Lock()
         self._fed = 0  # samples fed in all
         self._pending = np.zeros(0, np.int16)  # fed, short of a whole chunk
@@ -132,10 +162,24 @@ class UtteranceListener:
                 start = first + at
                 if self._muted(origin + start / RATE, origin + (start + CHUNK) / RATE):
                     chunk = np.zeros(CHUNK, np.int16)
-                told += self._chunk(chunk, self._vad.chance(chunk), start, origin)
+                chance = self._vad.chance(chunk) if self._loud(chunk) else 0.0
+                told += self._chunk(chunk, chance, start, origin)
                 self._recent = np.concatenate([self._recent, chunk])[-int(LEAD * RATE) :]
             self._pending = sound[whole:]
         return told
+
+    def _loud(self, chunk: np.ndarray) -> bool:
+        """Is the sound's level (over the last `SMOOTH` seconds) `LOUDER` than the room's floor (the
+        quietest tenth of the last `FLOOR` seconds), and no more than `UNDER` below their loudest
+        tenth? Other voices under a visitor's (babble) are speech too, but quieter than theirs:
+        without this an utterance would never end while they talk."""
+        self._powers.append(float(np.mean(chunk.astype(np.float64) ** 2)))
+        del self._powers[: -int(SMOOTH * RATE / CHUNK)]
+        level = float(np.sqrt(np.mean(self._powers)))
+        floor, top = np.percentile(self._levels, [10, 90])
+        self._levels.append(level)
+        del self._levels[0]
+        return level > max(floor * LOUDER, top * UNDER)
 
     def _muted(self, start: float, end: float) -> bool:
         if self.barge_in or self.speaking is None:

@@ -12,6 +12,7 @@ import pytest
 from baxterface_cli.engine.live_session import LiveSession
 from baxterface_cli.language.parser import parse
 from baxterface_cli.ros.node_ears import Ears, words_listened
+from baxterface_cli.speech import listening
 from waiting import eventually
 
 
@@ -38,16 +39,21 @@ def test_a_recording_plays_once_a_word_is_listened_for_and_its_word_is_heard(rob
     heard, said = [], []
     ears = Ears(
         session,
-        lambda event, at: heard.append((event.arg, at)),
+        lambda event, at: heard.append((event.kind, event.arg, at)),
         str(robot_wav),
         log=lambda *a: said.append(a),
     )
     assert ears.start() is None
     try:
         session.run(parse('on word "robot" { happy }'), time.monotonic())  # sent live: the ears follow
-        word, at = eventually(lambda: heard and heard[0], timeout=30)
-        assert word == "robot" and at <= time.monotonic()
+        kind, word, at = eventually(lambda: heard and heard[0], timeout=30)
+        assert (kind, word) == ("word", "robot") and at <= time.monotonic()
         assert any(level == "info" and text.startswith('heard word "robot", ') for level, text in said)
+        if listening.default_method() == listening.MOONSHINE:  # the whole utterance too
+            assert eventually(lambda: heard[1:] and heard[1][:2], timeout=30) == (
+                "heard",
+                "look at that robot",
+            )
     finally:
         ears.close()
 
