@@ -86,6 +86,7 @@ OTHERS = (
 )  # fmt: skip
 NATURAL = ("joe", "heart")
 ESPEAK = ("en-us", "en-gb-x-rp", "en-us+f3")
+NOISES = ("white", "babble")
 
 
 def _folder(args) -> Path:
@@ -270,6 +271,10 @@ def main() -> None:
     parser.add_argument("--quick", action="store_true", help="fewer conditions, for a first look")
     parser.add_argument("--folder")
     parser.add_argument("--part", choices=("natural", "espeak", "memory"), help="one part alone")
+    parser.add_argument("--noise", choices=NOISES, action="append", help="only these noises")
+    parser.add_argument(
+        "--condition", action="append", help="only these (by name: 'joe 0.8x +33 cents white')"
+    )
     args = parser.parse_args()
     folder = _folder(args)
     print(f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
@@ -284,17 +289,19 @@ def main() -> None:
         return
     others = 10 if args.quick else 40
     conditions = []
-    for noise in ("white", "babble"):
+    noises = args.noise or NOISES
+    for noise in noises:
         conditions.append((f"heart 1.0x {noise}", ("heart", 1.0, 0, noise, others)))
         if not args.quick:
             conditions.append((f"joe 0.8x +33 cents {noise}", ("joe", 0.8, 33, noise, others)))
             conditions.append((f"heart 1.25x -33 cents {noise}", ("heart", 1.25, -33, noise, others)))
+    conditions = [c for c in conditions if not args.condition or c[0] in args.condition]
     if args.part in (None, "natural"):
         print("natural voices (Moonshine tuned on joe at 1.0x; the spotter at heart's own pace only):")
         run(conditions, folder, [moonshine, spotter], baseline=("heart 1.0x white", "heart 1.0x babble"))
     if args.part in (None, "espeak"):
         print("espeak-ng's voices (the spotter on en-us only):")
-        conditions = [(f"{v} {n}", (v, 1.0, 0, n, 5)) for v in ESPEAK for n in ("white", "babble")]
+        conditions = [(f"{v} {n}", (v, 1.0, 0, n, 5)) for v in ESPEAK for n in noises]
         run(conditions, folder, [moonshine, spotter], baseline=("en-us white", "en-us babble"))
     if args.part in (None, "memory"):
         saved = folder / "memory-track.npy"

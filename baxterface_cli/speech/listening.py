@@ -25,7 +25,6 @@ from .word_spotter import listenable as spotter_listenable
 
 MOONSHINE = "moonshine"
 SPOTTER = "spotter"  # the word spotter, hama's or pocketsphinx's as it finds them
-METHODS = (MOONSHINE, SPOTTER, "ctc", "keyphrase")
 CHOICE = "BAXTERFACE_LISTENER"
 
 
