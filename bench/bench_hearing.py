@@ -236,7 +236,7 @@ def run(
     for name, (voice, speed, cents, noise, others) in conditions:
         t = track(voice, speed, cents, noise, others, folder, seed=zlib.crc32(name.encode()) % 1000)
         cells = []
-        for label, method, options in methods[:-1] if baseline and name not in baseline else methods:
+        for label, method, options in methods[:1] if baseline and name not in baseline else methods:
             heard, cpu = hear(t, method, **options)
             s = score(heard, t.spans)
             s["cpu"], s["seconds"] = cpu, t.seconds
@@ -272,6 +272,7 @@ def main() -> None:
     parser.add_argument("--folder")
     parser.add_argument("--part", choices=("natural", "espeak", "memory"), help="one part alone")
     parser.add_argument("--noise", choices=NOISES, action="append", help="only these noises")
+    parser.add_argument("--no-baseline", action="store_true", help="Moonshine's listener alone")
     parser.add_argument(
         "--condition", action="append", help="only these (by name: 'joe 0.8x +33 cents white')"
     )
@@ -280,6 +281,7 @@ def main() -> None:
     print(f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
     moonshine = ("moonshine", listening.MOONSHINE, {})
     spotter = ("spotter", listening.SPOTTER, {})
+    methods = [moonshine] if args.no_baseline else [moonshine, spotter]
     if args.tune:
         for noise in ("white", "babble"):
             conditions = [(f"joe 1.0x {noise}", ("joe", 1.0, 0, noise, 10))]
@@ -298,11 +300,11 @@ def main() -> None:
     conditions = [c for c in conditions if not args.condition or c[0] in args.condition]
     if args.part in (None, "natural"):
         print("natural voices (Moonshine tuned on joe at 1.0x; the spotter at heart's own pace only):")
-        run(conditions, folder, [moonshine, spotter], baseline=("heart 1.0x white", "heart 1.0x babble"))
+        run(conditions, folder, methods, baseline=("heart 1.0x white", "heart 1.0x babble"))
     if args.part in (None, "espeak"):
         print("espeak-ng's voices (the spotter on en-us only):")
         conditions = [(f"{v} {n}", (v, 1.0, 0, n, 5)) for v in ESPEAK for n in noises]
-        run(conditions, folder, [moonshine, spotter], baseline=("en-us white", "en-us babble"))
+        run(conditions, folder, methods, baseline=("en-us white", "en-us babble"))
     if args.part in (None, "memory"):
         saved = folder / "memory-track.npy"
         np.save(saved, track("joe", 1.0, 0, "babble", 10, folder, seed=5).samples)

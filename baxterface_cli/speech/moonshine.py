@@ -28,7 +28,7 @@ MODEL = ("assets", "tiny-en")
 START, END = 1, 2  # the decoder's first token, and the one that ends the text
 TOKENS_A_SECOND = 6.5  # at most, as Moonshine's own decoder bounds a text by its sound
 LAYERS, HEADS, HEAD_SIZE = 6, 8, 36
-REPEATS = 5  # the same token this many times over ends the text
+LOOP = 3  # the same tokens said this many times over in a row end the text (once)
 SPACE = "\u2581"  # SentencePiece's mark of a word's start
 BYTE_TOKENS = range(3, 259)  # <0x00>..<0xFF>: a byte each, for what the vocabulary lacks
 _LOCK = threading.Lock()  # one model a process, run by one thread at a time
@@ -158,10 +158,24 @@ class Transcriber:
                 if not cached or ".decoder." in name:  # the encoder's part is the same at every step
                     past[name.replace("present", "past_key_values")] = value
             cached = True
-            if last == END or said[-REPEATS:] == [last] * REPEATS:  # noise read as "♪♪♪♪...": no words
+            if last == END:
                 break
             said.append(last)
+            if looping(said):  # noise read as "♪♪♪♪", a short word as "hello hello hello"
+                return self.text(said[: len(said) - 2 * looping(said)])
         return self.text(said)
+
+
+def looping(said: Sequence[int]) -> int:
+    """The length of the tokens the text ends with LOOP times over (0: none): the greedy decoder's
+    way of going on where there are no more words."""
+    for size in range(1, 5):
+        if len(said) >= LOOP * size and all(
+            said[len(said) - (k + 1) * size : len(said) - k * size] == said[len(said) - size :]
+            for k in range(1, LOOP)
+        ):
+            return size
+    return 0
 
 
 def lifted(favoured: Sequence[Sequence[int]], said: Sequence[int]) -> List[int]:

@@ -82,12 +82,15 @@ def forms(phrase: Sequence[str]) -> List[Tuple[str, ...]]:
 
 
 def times(words: Sequence[str], phrase: Sequence[str]) -> int:
-    """How often `phrase` is said in `words`, as whole words (any of its `forms`)."""
-    count, i, said = 0, 0, tuple(words)
+    """How often `phrase` is said in `words`, as whole words (any of its `forms`); said again
+    straight after itself it counts once ("hello hello": the recogniser's echo of a short word, as
+    often as a person's)."""
+    count, i, after, said = 0, 0, -1, tuple(words)
     variants = forms(phrase) if phrase else []
     while i < len(said):
         size = next((len(v) for v in variants if v and said[i : i + len(v)] == v), 0)
-        count += bool(size)
+        count += bool(size) and i != after
+        after = i + size if size else after
         i += size or 1
     return count
 
