@@ -7,8 +7,9 @@ start) and ends after `END_QUIET` under `OFFSET`; a chunk near the room's floor,
 loudest of the last seconds, is quiet whatever the detector says (voices further away are speech,
 but not the visitor's). While it goes on, Moonshine (moonshine.py)
 transcribes its last `WINDOW` seconds every `HOP`; a phrase found as whole words in two looks in a
-row is told to `on_word` at once, one found in the whole utterance's words when it ends is told
-then. Each phrase is told once an utterance; the whole utterance's words go to `on_heard`.
+row, or in one after `SURE` of quiet (the last word is whole then), is told to `on_word` at once.
+When the utterance ends it is transcribed whole: each phrase is told as many more times as it says
+it (`times`), and its words go to `on_heard`.
 
 The looks cost work only while someone speaks; they are spaced so that listening takes at most
 `CPU_SHARE` of a core (a slower machine looks less often, and hears a phrase later, not less).
@@ -48,7 +49,7 @@ LOUDER = 10 ** (6 / 20)  # speech is 6 dB over the floor, at least
 UNDER = 10 ** (-10 / 20)  # and 10 dB under the loudest, at most
 SMOOTH = 0.38  # seconds the level is measured over
 CPU_SHARE = 0.5  # of a core, at most, that the looks take while someone speaks
-STABLE = 2  # looks in a row a phrase must be found in to be told before its utterance ends
+SURE = 0.15  # seconds of quiet after which a look's phrases are told at once, not at the next
 BIAS = 2.0  # added to the scores of the tokens spelling the phrases: bench/bench_hearing.py --tune
 ECHO = 0.3  # seconds after the face stops speaking that its voice still fills the room
 ARTICLES = ("a", "an", "the")
@@ -209,7 +210,7 @@ class UtteranceListener:
         length = sum(len(s) for s in self._sound)
         if self._quiet >= END_QUIET * RATE or length >= LONGEST * RATE:
             return self._end(origin)
-        if first + CHUNK - self._looked >= self._gap * RATE and self._quiet == 0:
+        if first + CHUNK - self._looked >= self._gap * RATE:
             return self._look(origin, first + CHUNK)
         return []
 
@@ -225,7 +226,8 @@ class UtteranceListener:
         sound = np.concatenate(self._sound)[-int(WINDOW * RATE) :]
         words = self._transcribe(sound)
         seen = {phrase for phrase, spelled in self._phrases if holds(words, spelled)}
-        stable = (seen & self._seen) if STABLE > 1 else seen
+        # after a pause the last word is whole: what a look then finds is told at once
+        stable = seen if self._quiet >= SURE * RATE else seen & self._seen
         self._seen = seen
         return self._tell([p for p in sorted(stable) if not self._told[p]], origin + upto / RATE, origin)
 
