@@ -63,9 +63,12 @@ def listener(
     on_heard: Optional[Callable[[str, float], None]] = None,
     saying: Optional[Callable[[float, float], str]] = None,
     method: Optional[str] = None,
+    live: bool = True,
     **options: Any,
 ) -> Any:
-    """A listener for `words` (see the module's docstring); `options` are its own settings."""
+    """A listener for `words` (see the module's docstring); `options` are its own settings. `live`:
+    sound as it comes, whose looks Moonshine spaces by their cost; a recording's are on a fixed
+    beat, so what is heard in it is the same on any machine, however busy."""
     check()
     method = method or default_method()
     if method == MOONSHINE:
@@ -74,7 +77,7 @@ def listener(
         if not any(w.strip() for w in words):
             raise WordError("no words to listen for")
         return UtteranceListener(
-            words, on_word, clock, speaking, barge_in, on_heard=on_heard, saying=saying, **options
+            words, on_word, clock, speaking, barge_in, on_heard=on_heard, saying=saying, paced=live, **options
         )
     spotter = None if method == SPOTTER else method  # it chooses between hama and pocketsphinx
     return WordSpotter(words, on_word, clock, speaking, barge_in, method=spotter, **options)
@@ -98,7 +101,9 @@ def spot_samples(
 ) -> Listened:
     """What is heard in 16 kHz mono samples, fed as a microphone would, in blocks of `block`
     seconds; times from the recording's start. `options`: `listener`'s."""
-    heard = listener(words, lambda word, at: None, speaking=speaking, barge_in=barge_in, **options)
+    heard = listener(
+        words, lambda word, at: None, speaking=speaking, barge_in=barge_in, live=False, **options
+    )
     step = max(1, int(block * RATE))
     for i in range(0, len(samples), step):
         piece = samples[i : i + step]

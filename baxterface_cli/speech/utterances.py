@@ -11,8 +11,9 @@ row, or in one after `SURE` of quiet (the last word is whole then), is told to `
 When the utterance ends it is transcribed whole: each phrase is told as many more times as it says
 it (`times`), and its words go to `on_heard`.
 
-The looks cost work only while someone speaks; they are spaced so that listening takes at most
-`CPU_SHARE` of a core (a slower machine looks less often, and hears a phrase later, not less).
+The looks cost work only while someone speaks; live, they are spaced so that listening takes at
+most `CPU_SHARE` of a core (a slower machine looks less often, and hears a phrase later, not less);
+in a recording (`--hear`), every `HOP`, so a render hears the same on any machine.
 
 The face does not hear itself: sound heard while `speaking(at)` says the face was speaking, or
 within `ECHO` after, is taken as silence, unless `barge_in`; then an utterance the face spoke in
@@ -116,7 +117,10 @@ class UtteranceListener:
         on_heard: Optional[Callable[[str, float], None]] = None,
         saying: Optional[Callable[[float, float], str]] = None,
         bias: float = BIAS,
+        paced: bool = True,
     ) -> None:
+        """`paced`: looks spaced by their cost, at most `CPU_SHARE` of a core (live sound); else
+        every `HOP` (a recording: what is heard in it does not depend on the machine's load)."""
         self.words = list(dict.fromkeys(" ".join(words_of(w)) for w in words if words_of(w)))
         self._phrases = [(w, w.split()) for w in self.words]
         self.on_word = on_word
@@ -132,6 +136,7 @@ class UtteranceListener:
         self.model = moonshine.transcriber()
         self._favoured = [self.model.spelling(w) for w in self.words]
         self.bias = bias
+        self.paced = paced
         self._vad = VoiceActivity()
         self._powers: List[float] = []  # the last SMOOTH seconds' chunks' mean squares
         # the level at each chunk over the last FLOOR seconds: silence before the first
@@ -218,7 +223,8 @@ class UtteranceListener:
         began = time.perf_counter()
         text = self.model.transcribe(sound, self._favoured, self.bias)
         cost = time.perf_counter() - began
-        self._gap = max(HOP, cost / CPU_SHARE)
+        if self.paced:
+            self._gap = max(HOP, cost / CPU_SHARE)
         return words_of(text)
 
     def _look(self, origin: float, upto: int) -> List[Heard]:
