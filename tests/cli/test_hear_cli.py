@@ -15,6 +15,9 @@ from conftest import baxterface
 pytest.importorskip("pocketsphinx")
 
 SCRIPT = 'on word "robot" { happy }\n'
+# How soon after its last word a phrase is told: the listener tells one that ends a sentence 0.15
+# to 0.35 s after it (docs/speech.md), once a look has found it whole.
+NEAR = 0.4
 
 
 @pytest.fixture
@@ -42,7 +45,7 @@ def test_explain_hears_the_word_and_runs_its_handler_near_its_end(tmp_path, said
     assert run.code == 0, run.err
     ran = re.search(r"^\s*([0-9.]+) s\s+react line 1 'on word \"robot\"' runs$", run.out, re.M)
     assert ran, run.out
-    assert abs(float(ran.group(1)) - word_end) < 0.3
+    assert abs(float(ran.group(1)) - word_end) < NEAR
     assert re.search(r"^\s*[0-9.]+ -\s+[0-9.]+ s\s+line 1\s+happy$", run.out, re.M)
 
 
@@ -54,7 +57,7 @@ def test_heard_words_merge_with_an_events_file(tmp_path, said):
         "explain", str(tmp_path / "both.face"), "--hear", str(path), "--events", str(tmp_path / "events.txt")
     )
     assert run.code == 0, run.err
-    lines = [line for line in run.out.splitlines() if "event" in line]
+    lines = [line for line in run.out.splitlines() if "event signal" in line or "event word" in line]
     # Each says where it came from: the events file's line, the recording it was heard in.
     assert lines[0].endswith(f"event signal poke ({tmp_path / 'events.txt'}:1)"), run.out
     assert lines[1].endswith(f'event word "robot" (heard in {path})'), run.out
@@ -110,7 +113,7 @@ def test_a_recording_in_another_format_is_heard_as_say_file_reads_it(tmp_path, s
     run = baxterface("explain", "robot.face", "--hear", str(deep), cwd=tmp_path)
     assert run.code == 0, run.err
     ran = re.search(r"^\s*([0-9.]+) s\s+react line 1 'on word \"robot\"' runs$", run.out, re.M)
-    assert ran and abs(float(ran.group(1)) - word_end) < 0.3, run.out
+    assert ran and abs(float(ran.group(1)) - word_end) < NEAR, run.out
 
 
 def test_a_header_that_claims_hours_is_refused_before_reading(tmp_path):
