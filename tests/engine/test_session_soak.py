@@ -7,18 +7,13 @@ import random
 import threading
 from collections import Counter
 
+from log_soak import SCRIPT  # the soak bench's: every policy, a timer and a forever
+
 from baxterface_cli import parse
 from baxterface_cli.engine.live_session import MAX_LOG, LiveSession
 from baxterface_cli.engine.session_handlers import MAX_QUEUE
 from baxterface_cli.language import syntax_tree as n
 
-SCRIPT = """on face seen cooldown 2s { happy }
-on person near queue { look left in 0.2s }
-on person gone interrupt { sad }
-on button ok { blink }
-on signal poke queue { wink left }
-on every 7s { nod }
-forever { look up in 0.5s; look down in 0.5s; wait until button up timeout 3s }"""
 EVENTS = {
     "line 1 'on face seen'": n.Event("face seen"),
     "line 2 'on person near'": n.Event("person near"),
