@@ -9,6 +9,7 @@ import subprocess
 import wave
 
 import pytest
+from spoken import spoken
 
 from conftest import baxterface
 
@@ -24,18 +25,8 @@ NEAR = 0.4
 def said(tmp_path):
     """A second of quiet, then "look at that robot" (en-us): the word's end, from the sound."""
     path = tmp_path / "said.wav"
-    subprocess.run(["espeak-ng", "-v", "en-us", "-w", str(path), "look at that robot"], check=True)
-    with wave.open(str(path), "rb") as w:
-        rate, frames = w.getframerate(), w.readframes(w.getnframes())
-    quiet = b"\0\0" * rate
-    with wave.open(str(path), "wb") as w:
-        w.setnchannels(1), w.setsampwidth(2), w.setframerate(rate)
-        w.writeframes(quiet + frames)
-    import numpy as np
-
-    samples = np.abs(np.frombuffer(frames, "<i2").astype(np.int32))
-    last_loud = int(np.nonzero(samples > 0.05 * samples.max())[0][-1])
-    return path, 1.0 + last_loud / rate
+    _, _, word_end = spoken(path, "look at that robot", quiet=1.0)
+    return path, word_end
 
 
 def test_explain_hears_the_word_and_runs_its_handler_near_its_end(tmp_path, said):

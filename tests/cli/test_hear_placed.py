@@ -6,10 +6,10 @@ from __future__ import annotations
 
 import re
 import subprocess
-import wave
 
 import numpy as np
 import pytest
+from spoken import spoken
 
 from conftest import baxterface
 
@@ -23,12 +23,8 @@ START = 2.0
 def said(tmp_path):
     """ "look at that robot" (en-us), from its first sample: the samples, their rate, the word's end."""
     path = tmp_path / "said.wav"
-    subprocess.run(["espeak-ng", "-v", "en-us", "-w", str(path), "look at that robot"], check=True)
-    with wave.open(str(path), "rb") as w:
-        rate = w.getframerate()
-        samples = np.frombuffer(w.readframes(w.getnframes()), "<i2").astype(float)
-    last_loud = int(np.nonzero(np.abs(samples) > 0.05 * np.abs(samples).max())[0][-1])
-    return path, samples, rate, last_loud / rate
+    samples, rate, word_end = spoken(path, "look at that robot")
+    return path, samples, rate, word_end
 
 
 def mono(data):
