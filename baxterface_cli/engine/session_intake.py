@@ -32,7 +32,7 @@ import re
 import threading
 from collections import deque
 from concurrent.futures import Future
-from typing import Callable, Deque, Dict, Optional, Tuple, Union
+from typing import Callable, Deque, Dict, List, Optional, Tuple, Union
 
 from ..closing import ClosedOnExit
 from ..extras import MissingTool
@@ -68,14 +68,17 @@ def said_ahead(script: n.Script) -> bool:
     """Synthesise what the script's first statement says (a `say`, an `ask`'s question), kept by
     the speech engines for its compile; whether it says anything. A text that cannot be said is
     left for the compile to refuse."""
-    from ..language.checker import walk
     from .compiler import engine_say
 
     first = next((s for s in script.body if not isinstance(s, (n.On, n.Define, n.State))), None)
-    if first is None:
-        return False
-    found = [s for s in walk((first,)) if isinstance(s, (n.Say, n.Ask))]
-    says = [s.question if isinstance(s, n.Ask) else s for s in found]
+    says: List[n.Say] = []
+    ahead = [] if first is None else [first]
+    while ahead:  # its blocks' statements too, but of an `ask` only the question: answers come later
+        s = ahead.pop()
+        if isinstance(s, (n.Say, n.Ask)):
+            says.append(s.question if isinstance(s, n.Ask) else s)
+        elif isinstance(s, n.BLOCKS):
+            ahead.extend(reversed(s.body))
     texts = [s for s in says if s.file is None]
     for say in texts:
         with contextlib.suppress(Exception):  # noqa: BLE001 - the compile says why, in one line

@@ -197,3 +197,24 @@ def test_a_command_that_speaks_starts_once_its_words_are_synthesised_its_sound_w
     assert session.face.started == pytest.approx(10.4)  # when its words were ready, not 10.0
     said = session.face.timeline.speech[0]
     assert said.at == 0.0  # its sound from its first sample, at the face's start
+
+
+def test_an_ask_sent_starts_once_its_question_is_synthesised_not_its_answers(live, monkeypatch):
+    # The answers are said later, if ever: making them first would hold the question back.
+    from baxterface_cli.engine import compiler
+
+    session, intake, clock, _ = live
+    synthesised: List[str] = []
+    real = compiler.engine_say
+
+    def slow(text, voice, rate):
+        if text not in synthesised:
+            synthesised.append(text)
+            clock.now += 0.4
+        return real(text, voice, rate)
+
+    monkeypatch.setattr(compiler, "engine_say", slow)
+    intake.submit('ask "Ready?" { "yes" { say "Great" } nothing 3s { say "Bye" } }')
+    eventually(lambda: session.face.timeline.speech)
+    assert synthesised == ["Ready?"]
+    assert session.face.started == pytest.approx(10.4)
