@@ -1,9 +1,8 @@
 """The face a live session plays on, taking each timeline as it is handed over.
 
 A `LiveSession` (live_session.py) is every live end's engine (the node, `stream`, the screen,
-`play` of a script that reacts): it compiles each step of its scripts and handlers and hands the
-timeline here with `begin`; the screen also compiles a plain command here itself (`take_over`:
-`prepare` from the face as it is at that moment) and begins it. The face plays one timeline at a
+`play`, and the recorded ends): it compiles each step of its scripts and handlers (`prepare`) and
+hands the timeline here with `begin`. The face plays one timeline at a
 time, each taking over from the one before, with idle blinks on top between and after them.
 Robot effects (head, nod, enable, follow, exit) fall due as time passes and are handed out once
 (`due`); the robot's status (following, exited) carries over from timeline to timeline.
@@ -41,7 +40,7 @@ def sleep_face() -> FaceState:
 class LiveFace:
     """Timelines in, face states and robot effects out, on a clock the caller gives.
 
-    Compiling (`prepare`, `take_over`) is safe from any thread and may wait (a `say` waits for
+    Compiling (`prepare`) is safe from any thread and may wait (a `say` waits for
     espeak-ng); `begin` hands the result over, which is cheap, and `state` and `due`, read by a
     frame loop, never compile.
     """
@@ -80,13 +79,6 @@ class LiveFace:
             return compile_script(script, seed=seed, start=start, recordings=self.recordings, carry=carry)
         except RecordingError as e:  # found only in saying it: a text espeak-ng crashed on
             raise ScriptError([e.diagnostic()], script.filename, script.source) from None
-
-    def take_over(self, script: Script, now: float) -> Timeline:
-        """Compile `script` to take over at `now` from the face as it is then, the statements
-        already begun finishing what they started (`sad`'s mouth after its lids, a wink's
-        reopening): the face shows what its state says. Safe from another thread."""
-        timeline, started, _ = self._playing
-        return self.prepare(script, timeline.sample(now - started), Carry(timeline, now - started))
 
     def begin(self, timeline: Timeline, now: float) -> None:
         """Play `timeline` from `now`, dropping what was playing and its effects not yet due."""

@@ -8,9 +8,8 @@ a tap on the page) run them by their policies; a command with only `signal`s
 raises them. The clock is passed in. What the face says is listed in the
 status for the pages to play, and its sound is kept by key for them to fetch.
 
-A script that reacts to nothing, while no handler is installed, is compiled
-whole and played as `render` plays it (the same frames); anything else goes
-through the session, statement by statement, so a handler can pause it.
+Every script and command, reacting or not, goes through the session, statement
+by statement, as on the node and in `render`: the same frames for the same seed.
 
 The session is advanced as the face node's is: by its intake's worker
 (engine/session_intake.py), which compiles each step (a `say` waits for
@@ -32,9 +31,9 @@ from ..core.face_state import FaceState
 from ..engine.live_session import LiveSession
 from ..engine.session_intake import SessionIntake
 from ..engine.session_log_file import SessionLogFile
-from ..engine.session_program import first_reacting
 from ..engine.timeline import Timeline
 from ..language import syntax_tree as n
+from ..language.checker import walk
 from ..language.events import in_words
 from ..language.parser import parse
 from ..language.syntax_tree import Script
@@ -58,6 +57,7 @@ class ScreenFace:
     ) -> None:
         """`log_file`: (its path, its size before it rotates, the settings) for the session's log."""
         self.clock = clock
+        self.origin = clock()  # the screen's start: `t` in the status counts from it, as in the log
         self.lock = threading.Lock()
         self.session = LiveSession(None, seed=seed, now=clock(), start=FaceState(), idle=idle, keep_up=True)
         self.live = self.session.face
@@ -74,34 +74,16 @@ class ScreenFace:
         )
         self.name = script.filename if script is not None else None
         self.events = 0  # posted, whether a handler took them or not
-        # Compiled now, so a script that cannot play (`say` without espeak-ng) stops the start; one
-        # that reacts is run by the session when the first page opens, a statement at a time.
-        self._first: Optional[Timeline] = None
-        self._first_reacting: Optional[Script] = None
-        if script is not None and first_reacting(script) is not None:
-            self._first_reacting = script
-        elif script is not None:
-            self._first = self.live.prepare(script, FaceState())
-        self._first_script = script
+        if script is not None and any(isinstance(s, n.Say) and s.file is None for s in walk(script.body)):
+            from ..speech.espeak import espeak_library
+
+            espeak_library()  # MissingTool now: a script that cannot speak stops the start, not the page
+        self._first = script  # run by the session when the first page opens
         self._sounds: OrderedDict[str, Utterance] = OrderedDict()
         self._heard: Optional[Timeline] = None  # the timeline whose sounds were kept last
 
     def close(self) -> None:
         self.intake.close()
-
-    def _plain(self, script: Script) -> bool:
-        """Is `script` played whole, as before the session: nothing in it or in the session reacts?"""
-        return not self.session.handlers and self.session.free and first_reacting(script) is None
-
-    def _begin(self, timeline: Timeline, now: float) -> None:
-        self._first = self._first_reacting = None
-        self.live.begin(timeline, now)
-        self._keep_sounds()
-
-    def _recorded(self, script: Optional[Script], at: float) -> None:
-        """A script played whole, not through the intake, in the session's log file."""
-        if self.record is not None and script is not None:
-            self.record.script(at, script.source, script.filename)
 
     def _handed(self, done: Future) -> None:
         """The first script, handed over when the first page opened: a failure is logged."""
@@ -123,33 +105,19 @@ class ScreenFace:
     def open(self) -> None:
         """A page shows the face: the script starts, if nothing has yet."""
         with self.lock:
-            if self._first is not None:
-                self._recorded(self._first_script, self.clock())
-                self._begin(self._first, self.clock())
-            elif self._first_reacting is not None:
-                script, self._first_reacting = self._first_reacting, None
-                # Called in the server's loop: its first steps are compiled on the intake's worker.
-                self.intake.take(script).add_done_callback(self._handed)
+            script, self._first = self._first, None
+        if script is not None:  # called in the server's loop: its steps are compiled on the intake's worker
+            self.intake.take(script).add_done_callback(self._handed)
 
     def command(self, text: str, filename: str = "command") -> Dict[str, Any]:
         """Play `text` from now, taking over from what plays (its handlers installed, its signals
         raised); ScriptError (or MissingTool) if it cannot."""
         script = parse(text, filename)
-        self.intake.settled()  # what came before (the first script, events) is in the session first
-        now = self.clock()
-        if self._plain(script):
-            # Compiled without the lock, which every frame needs; from the face as it is now.
-            timeline = self.live.take_over(script, now)
-            with self.lock:
-                if self._plain(script):
-                    self._recorded(script, now)
-                    self._begin(timeline, now)
-                    return {"duration": round(timeline.duration, 3)}
         with self.lock:
-            self._first = self._first_reacting = None
+            self._first = None  # a command before the first page: the script never comes
         self.intake.take(script).result()  # compiled on the worker; this thread waits, frames do not
         installed = [in_words(s.event) for s in script.body if isinstance(s, n.On)]
-        return {"reacting": True, "installed": installed, "handlers": len(self.session.handlers)}
+        return {"installed": installed, "handlers": len(self.session.handlers)}
 
     def posting(self, event: n.Event, source: str = "") -> Future:
         """An event now: a `wait until` it ends, its handlers run by their policies. A future: what
@@ -174,12 +142,17 @@ class ScreenFace:
         waits for a step being compiled (the intake's worker takes them): the face plays on."""
         return self.live.state(now)
 
-    def status(self, now: float) -> Dict[str, Any]:
-        """What the pages need beside the frames: the position in what plays, and what is heard now."""
+    def _sounding(self, now: float) -> List[Dict[str, Any]]:
+        """What is heard at `now`: each sound's key and its start, on the status's clock."""
         timeline, started = self.live.playing
-        t = now - started
-        heard = [{"key": sound_key(s.utterance), "at": round(s.at, 3)} for s in timeline.sounding(t)]
-        return {"kind": "status", "t": round(t, 3), "playing": True, "sounds": heard}
+        heard = timeline.sounding(now - started)
+        return [{"key": sound_key(s.utterance), "at": round(started + s.at - self.origin, 3)} for s in heard]
+
+    def status(self, now: float) -> Dict[str, Any]:
+        """What the pages need beside the frames: the time since the screen started, and what is
+        heard now, its start on that clock (a page plays a sound from `t - at`)."""
+        t = round(now - self.origin, 3)
+        return {"kind": "status", "t": t, "playing": True, "sounds": self._sounding(now)}
 
     def state(self) -> Dict[str, Any]:
         """The face and what it is doing, for `GET /api/state`: once what was sent before is in."""
@@ -188,19 +161,17 @@ class ScreenFace:
         self.step(now)
         face = self.face(now)
         with self.lock:
-            timeline, started, robot = self.live.timeline, self.live.started, self.live.robot
-            waiting = self._first is not None or self._first_reacting is not None
-            reacting = self._reacting()
-        t = now - started
-        heard = timeline.sounding(t)
+            robot, waiting, reacting = self.live.robot, self._first is not None, self._reacting()
+            playing = not self.session.free or not self.live.finished(now)  # a run, or its last step
+        timeline, started = self.live.playing
+        heard = timeline.sounding(now - started)
         return {
             "script": self.name,
             "waiting": waiting,  # the script waits for the first page
-            "t": round(t, 3),
-            "duration": round(timeline.duration, 3),
-            "playing": t < timeline.duration,
+            "t": round(now - self.origin, 3),
+            "playing": playing,
             "saying": heard[-1].utterance.text if heard else None,
-            "sounds": [{"key": sound_key(s.utterance), "at": round(s.at, 3)} for s in heard],
+            "sounds": self._sounding(now),
             "following": robot.following,
             "face": face.as_record(),
             **reacting,

@@ -13,6 +13,8 @@ from baxterface_cli.language.diagnostics import ScriptError
 from baxterface_cli.language.parser import parse
 from baxterface_cli.screen.screen_face import ScreenFace
 
+from tests.support.waiting import caught_up
+
 
 class Clock:
     def __init__(self, now: float = 100.0) -> None:
@@ -20,6 +22,12 @@ class Clock:
 
     def __call__(self) -> float:
         return self.now
+
+
+def passing(face: ScreenFace, clock: Clock, seconds: float) -> None:
+    """`seconds` pass on the screen's clock: the session's worker begins the steps due by then."""
+    clock.now += seconds
+    caught_up(face.intake, clock.now)
 
 
 def test_the_script_waits_for_the_first_page_then_plays_from_its_start():
@@ -31,29 +39,30 @@ def test_the_script_waits_for_the_first_page_then_plays_from_its_start():
     assert face.state()["waiting"]
     face.open()
     assert not face.state()["waiting"]
-    clock.now += 0.3  # sad takes 0.3 s
+    passing(face, clock, 0.3)  # sad takes 0.3 s
     assert face.face(clock.now).emotion == "sad" and face.face(clock.now).eye_x == pytest.approx(0, abs=1e-6)
-    clock.now += 0.5
+    passing(face, clock, 0.5)
     halfway = face.face(clock.now).eye_x
-    clock.now += 1.0
+    passing(face, clock, 1.0)
     assert halfway > 0 and face.face(clock.now).eye_x > halfway  # looking left (+x), further than halfway
     face.open()  # a second page joins the face as it is: nothing starts again
-    assert face.face(clock.now).eye_x > halfway and face.state()["t"] == pytest.approx(1.8)
+    assert face.face(clock.now).eye_x > halfway and face.state()["t"] == pytest.approx(31.8)
 
 
 def test_a_command_takes_over_from_the_face_as_it_is_and_the_script_never_comes():
     clock = Clock()
     face = ScreenFace(parse("sad", "first.face"), seed=1, idle=False, clock=clock)
-    assert face.command("look left in 1s") == {"duration": 1.0}
-    clock.now += 0.5
+    assert face.command("look left in 1s") == {"installed": [], "handlers": 0}
+    assert face.state()["playing"]
+    passing(face, clock, 0.5)
     where = face.face(clock.now).eye_x
     assert where > 0  # on the way left
     face.command("look right in 1s")
     assert face.face(clock.now).eye_x == pytest.approx(where)  # from where the eyes had got to
-    clock.now += 1.0
-    assert face.face(clock.now).eye_x < 0
+    passing(face, clock, 1.0)
+    assert face.face(clock.now).eye_x < 0 and not face.state()["playing"]
     face.open()  # the command came first: the script is dropped, as a take-over drops what plays
-    clock.now += 1.0
+    passing(face, clock, 1.0)
     assert face.face(clock.now).emotion != "sad" and not face.state()["waiting"]
 
 
@@ -61,13 +70,13 @@ def test_a_bad_command_says_where_and_changes_nothing():
     clock = Clock()
     face = ScreenFace(seed=1, idle=False, clock=clock)
     face.command("happy")
-    clock.now += 1
+    passing(face, clock, 1)
     before = face.face(clock.now)
     with pytest.raises(ScriptError) as e:
         face.command("look 40 -20 in 0.5s eas-in")
     assert e.value.diagnostics[0].message.startswith("unknown easing 'eas-in'")
     assert (e.value.diagnostics[0].line, e.value.diagnostics[0].column) == (1, 21)
-    clock.now += 1
+    passing(face, clock, 1)
     assert face.face(clock.now) == before
 
 
@@ -86,15 +95,17 @@ def test_what_is_said_is_listed_while_it_is_heard_and_its_sound_is_served(engine
     clock = Clock()
     face = ScreenFace(seed=1, idle=False, clock=clock)
     said = "Hello from the screen."
-    duration = face.command(f'happy\nsay "{said}"')["duration"]
-    clock.now += 0.4
+    face.command(f'happy\nsay "{said}"')
+    passing(face, clock, 0.4)  # the say begins as happy ends, at 0.3 s
     (heard,) = face.status(clock.now)["sounds"]
-    assert heard["at"] == pytest.approx(0.3) and face.state()["saying"] == said
+    assert heard["at"] == pytest.approx(0.3) and face.status(clock.now)["t"] == pytest.approx(0.4)
+    assert face.state()["saying"] == said
     with wave.open(io.BytesIO(face.sound(heard["key"]))) as w:
         samples = np.frombuffer(w.readframes(w.getnframes()), "<i2")
     assert np.array_equal(samples, engine.say(said).samples)
-    clock.now += duration
+    passing(face, clock, engine.say(said).duration)
     assert face.status(clock.now)["sounds"] == [] and face.state()["saying"] is None
+    assert not face.state()["playing"]
     assert face.sound("0123456789abcdef") is None
 
 

@@ -200,7 +200,7 @@ def test_a_live_face_starts_its_speech_process_as_it_starts_not_at_its_first_say
         eventually(lambda: len(processes_with(marker)) == 2)  # the screen and its speech process
         (child,) = [pid for pid in processes_with(marker) if pid != screen.process.pid]
         status, answer = screen.json("POST", "/api/command", 'say "Hello there."')
-        assert status == 200 and answer["duration"] > 0.3, answer
+        assert status == 200, answer  # said ahead of its start, by the speech process there
         assert sorted(processes_with(marker)) == sorted([screen.process.pid, child])  # that one said it
     assert processes_with(marker) == []
 
@@ -220,7 +220,7 @@ def test_the_screen_answers_a_crashing_say_with_an_error_and_goes_on(tmp_path, c
         # past all of a short sentence; the screen ends before it does.
         still = "Still here, and saying a sentence that goes on." + " And on." * 20
         status, answer = screen.json("POST", "/api/command", f'happy\nsay "{still}"')
-        assert status == 200 and answer["duration"] > 3, answer
+        assert status == 200, answer
         eventually(lambda: screen.json("GET", "/api/state")[1]["saying"] == still)
         logged = [line for line in screen.log() if "POST /api/command: 400" in line]
         assert any("crashed saying this text" in line for line in logged), screen.log()

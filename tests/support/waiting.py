@@ -22,3 +22,15 @@ def eventually(check: Callable[[], T], timeout: float = PATIENCE) -> T:
             return value
         assert time.monotonic() < deadline, "waited in vain"
         time.sleep(0.05)
+
+
+def caught_up(intake, now: float) -> None:
+    """Wait until a live session at its intake has done all it had to by `now` on its clock (a test's
+    clock, moved by hand): what was handed over taken, each step due by then begun."""
+
+    def done() -> bool:
+        with intake.session.lock:
+            due = intake.session.next_due()
+        return intake.idle() and (due is None or due[0] > now)
+
+    eventually(done)
