@@ -2,10 +2,10 @@
 
     python bench/bench_playback.py
 
-Ours: `Player`, which schedules frame i at start + i/fps. Baseline, in the
-same run: render a frame, show it, sleep 1/fps (the loop a first attempt
-writes), which falls behind by each frame's own cost. Both draw into a
-terminal screen writing to /dev/null at 1024x600.
+Ours: `LivePlayer` (what `play` runs), which schedules frame i at start + i/fps, the script on a
+live session stepped in real time. Baseline, in the same run: render a frame, show it, sleep
+1/fps (the loop a first attempt writes), which falls behind by each frame's own cost. Both draw
+into a terminal screen writing to /dev/null at 1024x600.
 """
 
 from __future__ import annotations
@@ -18,7 +18,9 @@ from baxterface_cli.drawing.renderer import Renderer
 from baxterface_cli.drawing.theme import Theme
 from baxterface_cli.engine.animation import Animation
 from baxterface_cli.engine.compiler import compile_script
-from baxterface_cli.play.player import Player, TerminalScreen
+from baxterface_cli.engine.live_session import LiveSession
+from baxterface_cli.play.live_player import LivePlayer
+from baxterface_cli.play.screens import TerminalScreen
 
 SCRIPT = "repeat 5 { look 60 -40 in 1s ease-in-out; blink; look -60 40 in 0.5s }"
 FPS = 30
@@ -28,7 +30,8 @@ def main() -> None:
     animation = Animation(compile_script(parse(SCRIPT), seed=0), idle=True)
     layers = Theme.default().layers((1024, 600))
     with open(os.devnull, "w") as sink:
-        player = Player(animation, Renderer(layers), TerminalScreen(sink, 120, 40), FPS)
+        session = LiveSession(parse(SCRIPT), seed=0, keep_up=True)
+        player = LivePlayer(session, Renderer(layers), TerminalScreen(sink, 120, 40), FPS)
         played = player.run()
 
         renderer, screen = Renderer(layers), TerminalScreen(sink, 120, 40)

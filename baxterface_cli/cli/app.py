@@ -166,7 +166,7 @@ FACE_POLICY_OPT = typer.Option(
 )
 
 
-def following_from(path: Optional[str], animation, command: str, say, face_policy: Optional[str] = None):
+def following_from(path: Optional[str], follows: bool, command: str, say, face_policy: Optional[str] = None):
     """The rehearsal that follows what FILE shows (`--follow-from`), or None without one.
 
     `say` takes a warning line; a file that cannot be used is a clear exit 1.
@@ -184,14 +184,13 @@ def following_from(path: Optional[str], animation, command: str, say, face_polic
             )
     if path is None:
         return None
-    from ..engine.effects import SetFollowing
     from ..robot.rehearsal import FollowSourceError, Rehearsal, open_source
 
     try:
         source = open_source(path)
     except (MissingTool, FollowSourceError) as e:
         raise fail(f"baxterface {command}: {e}") from None
-    if not any(isinstance(cue.effect, SetFollowing) for cue in animation.timeline.cues):
+    if not follows:
         say(f"baxterface {command}: the script follows nothing, so --follow-from changes nothing")
     warn = lambda message: say(f"baxterface {command}: {message}")  # noqa: E731
     return Rehearsal(source, warn) if face_policy is None else Rehearsal(source, warn, face_policy)

@@ -2,13 +2,10 @@
 
 from __future__ import annotations
 
-import os
-import sys
-from typing import List, Optional
+from typing import Optional
 
 import typer
 
-from ..language.diagnostics import ScriptError
 from .app import (
     CROSSFADE_OPT,
     FACE_POLICY_OPT,
@@ -19,11 +16,7 @@ from .app import (
     RANDOM_SEED_OPT,
     SIZE_OPT,
     THEME_OPT,
-    check_recordings,
     fail,
-    fitted_theme,
-    following_from,
-    load_script,
     script_from,
 )
 from .events_option import (
@@ -34,10 +27,10 @@ from .events_option import (
     LISTEN_OPT,
     events_trace,
     handlers_need_events,
-    session_animation,
 )
 from .finite_numbers import finite
 from .log_option import LOG_OPT, LOG_SIZE_OPT, log_file, logged_seed
+from .play_live import Live, Running, Showing, play_live
 
 
 def play(
@@ -79,10 +72,8 @@ def play(
     face is a `touch` (with its place), a phrase heard from the microphone a `word`, until the
     window closes, --duration passes or the face exits; --log FILE keeps its record. Ctrl-C stops.
     """
-    from ..drawing.renderer import Renderer
     from ..engine.session_run import reactive
-    from ..play.player import Player, TerminalScreen, WindowScreen, window_available
-    from ..speech.warm_start import start_in_background
+    from ..play.screens import window_available
 
     if watch and (script_path in (None, "-") or inline is not None):
         raise fail("baxterface play: --watch needs a SCRIPT file", 2)
@@ -98,84 +89,17 @@ def play(
         window = why_not is None
     if window and why_not:
         raise fail(f"baxterface play: cannot open a window: {why_not}")
-    if watch and log is not None:
-        raise fail("baxterface play: --log keeps a live session's record, which --watch is not", 2)
+    if (watch or loop) and log is not None:
+        again = "--watch" if watch else "--loop"
+        raise fail(f"baxterface play: --log keeps one live session's record, and {again} starts new ones", 2)
+    if not (window or listen):
+        handlers_need_events(script, events or hear, "play")
     seed = logged_seed(log, seed)
     logged = log_file(log, log_size, "play", seed=seed, events=events, duration=duration)
-    if listen or (window and reactive(script)) or logged is not None:
-        from .play_live import play_live
-
-        given = events if heard is None else heard
-        play_live(
-            script, given, window, fps, size, seed, theme, idle, crossfade, duration, listen, barge_in, logged
-        )
-        return
-    handlers_need_events(script, events or hear, "play")
-    if not window and not sys.stdout.isatty():
-        raise fail(
-            "baxterface play: no display and no terminal to play in; "
-            "use 'baxterface render SCRIPT --out show.gif' to make a file instead"
-        )
-    start_in_background()  # the speech process starts as the theme is fitted: no `say` waits for it
-    renderer = Renderer(fitted_theme(theme, size, "play"))
-    animation, _ = session_animation(script, events, seed, idle, crossfade, duration, "play", hear, heard)
-    held: List[str] = []  # a terminal's face would cover the line; it is said when the face is gone
-
-    def say(line: str) -> None:
-        if window:
-            typer.echo(line, err=True)
-        else:
-            held.append(line)
-
-    def open_sound():  # only once a script that speaks starts: the others never touch the device
-        from ..speech.sound_device import open_sound as open_device
-
-        return open_device(lambda message: say(f"baxterface play: {message}"))
-
-    follow = following_from(follow_from, animation, "play", say, face_policy)
-    screen = WindowScreen() if window else TerminalScreen()
-    player = Player(animation, renderer, screen, fps, sound=open_sound, follow=follow)
-    poll = _watcher(script_path, seed, idle, crossfade, player) if watch else None
-    interrupted = False
-    try:
-        player.run(loop=loop, hold=watch, poll=poll)
-    except KeyboardInterrupt:
-        interrupted = True
-    finally:
-        screen.close()
-        if player.sound is not None:
-            player.sound.close()
-        for line in held:
-            typer.echo(line, err=True)
-    shown = f"{player.frames_shown} frames ({screen.name})"
-    length = player.animation.duration
-    if interrupted:  # the shell's convention: 128 + SIGINT
-        where = f"{player.position:.2f} s of {length:.2f} s of script"
-        typer.echo(f"interrupted at {where}, after {player.elapsed():.2f} s: {shown}", err=True)
-        raise typer.Exit(130)
-    typer.echo(f"played {length:.2f} s of script in {player.elapsed():.2f} s: {shown}", err=True)
-
-
-def _watcher(path: str, seed: Optional[int], idle: bool, crossfade: Optional[float], player):
-    """A poll function: a new animation when the file changed and parses, else None."""
-    state = {"mtime": os.stat(path).st_mtime_ns}
-
-    def poll():
-        try:
-            mtime = os.stat(path).st_mtime_ns
-        except OSError:
-            return None
-        if mtime == state["mtime"]:
-            return None
-        state["mtime"] = mtime
-        try:
-            script = load_script(path)
-            check_recordings(script)
-        except ScriptError as e:
-            first = e.diagnostics[0]
-            player.note = f"kept the last good version: line {first.line}: {first.message}"
-            return None
-        player.note = ""
-        return session_animation(script, None, seed, idle, crossfade, None, "play")[0]
-
-    return poll
+    play_live(
+        script,
+        events if heard is None else heard,
+        Showing(window, fps, size, theme, follow_from, face_policy),
+        Running(seed, idle, crossfade, duration, loop, script_path if watch else None),
+        Live(listen, barge_in, window and reactive(script), logged),
+    )

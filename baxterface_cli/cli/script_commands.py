@@ -175,6 +175,7 @@ def render(
     the same script, events and seed make the same frames.
     """
     from ..drawing.renderer import Renderer
+    from ..engine.effects import SetFollowing
     from ..export.annotations import annotation_kind
     from ..export.registry import format_for
     from ..export.sink import FormatError
@@ -205,7 +206,8 @@ def render(
             script = script_from(script_path, inline, "render")
             animation, _ = session_animation(script, events, seed, idle, crossfade, duration, "render", hear)
         say = lambda line: typer.echo(line, err=True)  # noqa: E731
-        follow = following_from(follow_from, animation, "render", say, face_policy)
+        follows = any(isinstance(cue.effect, SetFollowing) for cue in animation.timeline.cues)
+        follow = following_from(follow_from, follows, "render", say, face_policy)
         if at is not None and at > animation.duration:
             say(
                 f"baxterface render: --at {at:g} is past the script's end ({animation.duration:.2f} s); "

@@ -113,9 +113,19 @@ class LiveFace:
 
     # -- the face
 
+    @property
+    def showing(self) -> Tuple[Timeline, float, Optional[Idle]]:
+        """The timeline, its start and its idle life, read together: what `state` draws from. A
+        player that runs the session ahead of its picture keeps the last few to draw with `at`."""
+        return self._playing
+
     def state(self, now: float) -> FaceState:
         """The face to show at `now`: the commands' face with idle life on top."""
-        timeline, started, idle = self._playing
+        return self.at(self._playing, now)
+
+    def at(self, showing: Tuple[Timeline, float, Optional[Idle]], now: float) -> FaceState:
+        """The face `showing` (read from `showing` earlier) shows at `now`, idle life on top."""
+        timeline, started, idle = showing
         t = max(0.0, now - started)  # a frame's clock read just before another thread began a step
         state = timeline.sample(t)
         if idle is not None:

@@ -2,8 +2,8 @@
 
 The clock is the caller's: `run` takes a script, `post` an event, `tick(now)` gives the face and the
 cues due (a frame loop reads `face.state(now)`, lets time pass by `catch_up`, leaves `advance` to a
-worker: session_intake.py). Every public method may be called from any thread (one lock). `render`,
-`play` and `explain --events` run the same session over an events file (session_run.py).
+worker: session_intake.py). Every public method may be called from any thread (one lock). `render`
+and `explain` run it over an events file (session_run.py); `play` steps it in real time.
 
 The face does one thing at a time: the main script (or the state it entered), or one handler's
 run, which pauses the main script until no handler is left; an event whose handler cannot start

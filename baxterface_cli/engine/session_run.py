@@ -1,5 +1,6 @@
-"""A live session run on a clock of its own, over an events file or none: how `render`, `explain`,
-`play` in a terminal and the studio's preview play every script, reacting or not.
+"""A live session run on a clock of its own, over an events file or none: how `render`, `explain`
+and the studio's preview play every script, reacting or not (`play` steps the session in real
+time: play/live_player.py, which ends where this run would).
 
 The session (live_session.py) takes the file's events at their times, so
 the same script, events and seed give the same timelines and the same frames, to the bit.

@@ -1,11 +1,18 @@
-"""A script that reacts, played live: `play --listen`, or a script with handlers in a window.
+"""`play`: a live session's frames on a screen in real time, every script, reacting or not.
 
-The live session (engine/live_session.py) runs on the player's clock, ticked a frame at a time.
-Events come as they happen: words from the microphone (a WordSpotter on the microphone's
-thread, whose words wait in a queue for the next frame), touches from clicks in the window (the
-place found on the face as it was shown: drawing/touch_places.py), and an events file's lines at
-their times. What the face says is heard: each timeline the session starts has its speech
-started on the sound device, and whatever it cuts short falls silent.
+The session (engine/live_session.py) runs on the player's clock, ticked a frame at a time. Frames
+are scheduled on absolute times from the start (frame i at i/fps), so a slow frame makes the next
+one come sooner, never the whole show later: a late frame is dropped rather than shown late.
+Events come as they happen: words from the microphone (a WordSpotter on the microphone's thread,
+whose words wait in a queue for the next frame), touches from clicks in the window (the place
+found on the face as it was shown: drawing/touch_places.py), and an events file's lines at their
+times. A show that is not live (no window clicks or microphone to wait for) ends where its
+recorded run would (engine/session_run.py): once the session rests after the file's last event
+and the face has finished moving; `--loop` then starts a fresh session from the beginning.
+
+What the face says is heard with the frame that says it: a script that speaks opens the sound
+device before the clock starts, and the session runs that device's latency ahead of the picture,
+so each step's speech is known, and started, before the frame that begins it is shown.
 """
 
 from __future__ import annotations
@@ -13,20 +20,24 @@ from __future__ import annotations
 import contextlib
 import queue
 import time
-from typing import Any, Callable, Optional, Tuple
+from typing import Any, Callable, List, Optional, Tuple
 
 from ..core.face_state import FaceState
 from ..drawing.renderer import Renderer
 from ..drawing.touch_places import touched_place
+from ..engine.effects import RobotStatus
 from ..engine.live_session import LiveSession
 from ..engine.session_log_file import SessionLogFile
+from ..engine.session_run import resting
 from ..engine.speaking_times import SpeakingTimes
 from ..language import syntax_tree as n
 from ..language.events import MOST_HEARD
-from ..speech.sound_device import SoundOut, SpeechCues
-from .player import status_line
+from ..robot.rehearsal import Rehearsal
+from ..speech.sound_device import START_AHEAD, SoundOut, SpeechCues
+from .screens import status_line
 
 Clock = Callable[[], float]
+Polled = Callable[[], Optional[LiveSession]]  # a new session to play, or None to go on
 
 
 class LivePlayer:
@@ -44,9 +55,17 @@ class LivePlayer:
         sleep: Callable[[float], None] = time.sleep,
         sound: Optional[Callable[[], SoundOut]] = None,
         record: Optional[SessionLogFile] = None,
+        follow: Optional[Rehearsal] = None,
+        live: bool = False,
+        speaks: bool = False,
+        fresh: Optional[Callable[[], LiveSession]] = None,
     ) -> None:
         """`record`: the session's log file, told of each event and the session's lines as the
-        frames take them (it only queues them: its own thread writes)."""
+        frames take them (it only queues them: its own thread writes). `follow`: following against
+        a recorded source (`--follow-from`). `live`: events may come at any time (a window's clicks,
+        the microphone), so only the screen, `duration` or the face's exit ends the show.
+        `speaks`: the script may say something, so the sound device opens before the clock starts
+        (`sound` makes it). `fresh`: a new session of the script from its start, for `--loop`."""
         self.session = session
         self.record = record
         if record is not None:  # its lines from the first (a session made with its script has some)
@@ -54,32 +73,42 @@ class LivePlayer:
         self.renderer = renderer
         self.screen = screen
         self.fps = fps
-        self.trace = list(trace.events) if trace is not None else []
+        self.posts = tuple(trace.events) if trace is not None else ()
         self.source = trace.source if trace is not None else (lambda posted: "")
         self.duration = duration
         self.clock = clock
         self.sleep = sleep
         self.open_sound = sound
         self.sound: Optional[SoundOut] = None
+        self.follow = follow
+        self.live = live
+        self.speaks = speaks
+        self.fresh = fresh
         self.inbox: queue.Queue[Tuple[n.Event, Optional[float], str]] = queue.Queue(maxsize=1000)
-        self.origin: Optional[float] = None
+        self.began: Optional[float] = None
+        self.origin: Optional[float] = None  # the clock's time when the picture shows t = 0
+        self.lead = 0.0  # how far the session runs ahead of the picture: the sound's latency
         self.frames_shown = 0
-        self.position = 0.0
+        self.position = 0.0  # the time of the last frame shown
         self.note = ""
+        self._trace: List[Any] = []  # the file's events still to come
+        self._showing: List[Any] = []  # what the face showed since the picture's time, oldest first
+        self._robots: List[Tuple[float, RobotStatus]] = []  # and the robot's status, from when
         self._state: Optional[FaceState] = None
         self._cues: Optional[SpeechCues] = None
-        self._said = SpeakingTimes()  # on the player's clock
+        self._spoken: Any = None  # the timeline whose speech the sound device plays, and its start
+        self._said = SpeakingTimes()  # on the session's clock
         if hasattr(screen, "on_click"):
             screen.on_click(self.touch)
 
     # -- events in (any thread)
 
     def now(self) -> float:
-        """Seconds since the show began (0 before): the session's clock, and the spotter's."""
-        return 0.0 if self.origin is None else self.clock() - self.origin
+        """The session's clock, the spotter's too: seconds since the show began (0 before)."""
+        return 0.0 if self.origin is None else max(0.0, self.clock() - self.origin + self.lead)
 
     def hear(self, word: str, at: float) -> None:
-        """A word heard, ending at `at` (the player's clock): the spotter's `on_word`."""
+        """A word heard, ending at `at` (the session's clock): the spotter's `on_word`."""
         self._put(n.Event("word", word), at, "microphone")
 
     def hear_said(self, text: str, at: float) -> None:
@@ -93,7 +122,7 @@ class LivePlayer:
         self._put(n.Event("touch", place), None, "window")
 
     def speaking(self, at: float) -> bool:
-        """Was the face speaking at `at` (the player's clock)? For the spotter, on its thread."""
+        """Was the face speaking at `at` (the session's clock)? For the spotter, on its thread."""
         return self._said.speaking(at)
 
     def saying(self, start: float, end: float) -> str:
@@ -106,32 +135,119 @@ class LivePlayer:
 
     # -- the show
 
-    def run(self) -> float:
-        """Play until the window closes, `duration` passes or the face exits; the seconds played."""
-        self.origin = self.clock()
-        index = 0
+    def run(self, loop: bool = False, hold: bool = False, poll: Optional[Polled] = None) -> float:
+        """Play until the show ends (again and again with `loop`, a show that takes no time held
+        rather than spun; with `hold`, its last frame kept), the screen closes, or the face exits.
+        `poll`, called between frames, may hand over a new session, which starts from its
+        beginning (`--watch`). Returns the seconds played."""
+        self.began = self.clock()
+        ended = False
         try:
+            self._start(self.session)
+            index = 0
             while self.screen.alive():
-                t = max(index / self.fps, self.now())  # a late frame is dropped, not shown late
-                if self.duration is not None:
-                    t = min(t, self.duration)
+                fresh = poll() if poll is not None else None
+                if fresh is not None:
+                    self._start(fresh)
+                    index = 0
+                assert self.origin is not None
+                t = max(index / self.fps, self.clock() - self.origin)  # a late frame is dropped
+                end = self._take(t)
+                if end is not None and t >= end:
+                    self._show(end)
+                    if loop and end > 0 and self.fresh is not None and not self.session.exited:
+                        self._start(self.fresh(), self.origin + end)
+                        index = 0
+                        continue
+                    if not (loop or hold):
+                        ended = True  # the last words are out but for what the device still holds
+                        break
+                    self.sleep(1.0 / self.fps)  # keep the last frame, and keep polling
+                    continue
+                # A hair over each tick counts as there (float rounding).
                 index = int(t * self.fps + 1e-9)
-                self._post_due(index / self.fps)
                 self._show(index / self.fps)
-                if self.session.exited or (self.duration is not None and t >= self.duration):
-                    break
+                if self._cues is not None:
+                    self._cues.tick(self.clock())
                 index += 1
                 wait = self.origin + index / self.fps - self.clock()
                 if wait > 0:
                     self.sleep(wait)
         finally:
-            if self.sound is not None:
+            if self.sound is not None and not ended:  # stopped early: not a word more
                 self.sound.stop()
-        return self.now()
+        return self.clock() - self.began
+
+    def elapsed(self) -> float:
+        """Seconds since `run` began (0 before)."""
+        return 0.0 if self.began is None else self.clock() - self.began
+
+    def length(self) -> float:
+        """The show's length as far as it is known: `duration`, where it ends once that is known,
+        else the end of what the face is doing (at least the time shown)."""
+        end = self._end()
+        if end is not None:
+            return end
+        face = self.session.face
+        return max(self.position, face.started + face.timeline.duration)
+
+    def _start(self, session: LiveSession, at: Optional[float] = None) -> None:
+        """`session` from its beginning, the picture showing its t = 0 at the clock's `at` (now
+        if None), later by the sound's latency: the session runs that far ahead, so its words are
+        out in time."""
+        if self.session is not session:
+            self.session = session
+            if self.record is not None:
+                self.record.watch(session.face)
+        if self.speaks and self.sound is None and self.open_sound is not None:
+            self.sound = self.open_sound()  # before the clock starts: finding a device takes a while
+        if self.sound is not None:
+            self.sound.stop()  # a reloaded or restarted script does not talk over its old self
+        heard = self.sound is not None and self.sound.available
+        self.lead = self.sound.latency + START_AHEAD if heard else 0.0  # type: ignore[union-attr]
+        self.origin = (self.clock() if at is None else at) + self.lead
+        self._trace = list(self.posts)
+        self._showing = [session.face.showing]
+        self._robots = [(float("-inf"), session.face.robot)]
+        self._cues = self._spoken = None
+        self._said = SpeakingTimes()
+
+    def _take(self, t: float) -> Optional[float]:
+        """The session taken on to the picture's time `t` and its lead (events posted on the way);
+        where the show ends, once that is known."""
+        ahead = t + self.lead if self.duration is None else min(t + self.lead, self.duration)
+        self._post_due(ahead)
+        self.session.tick(ahead)
+        face = self.session.face
+        if self.record is not None:
+            self.record.follow(self.session)
+        if face.showing is not self._showing[-1]:
+            self._showing.append(face.showing)
+        if face.robot is not self._robots[-1][1]:
+            self._robots.append((ahead, face.robot))
+        self._follow_speech(ahead)
+        return self._end()
+
+    def _end(self) -> Optional[float]:
+        """Where the show ends: `duration`, the face's exit, or, for a show that is not live, the
+        time its session came to rest after the file's last event and the face's last move (a
+        `forever` rests only once an events file has come to its end)."""
+        session = self.session
+        if session.exited and session.exited_at is not None:
+            return session.exited_at if self.duration is None else min(self.duration, session.exited_at)
+        if self.duration is not None:
+            return self.duration
+        if self.live or self._trace or not resting(session):
+            return None
+        main = session.main
+        if main is not None and not main.done and main.runner.forever and not self.posts:
+            return None  # nothing will come: it goes round until stopped
+        face = session.face
+        return max(self.posts[-1].at if self.posts else 0.0, face.started + face.timeline.duration)
 
     def _post_due(self, t: float) -> None:
-        while self.trace and self.trace[0].at <= t:
-            posted = self.trace.pop(0)
+        while self._trace and self._trace[0].at <= t:
+            posted = self._trace.pop(0)
             self._post(posted.event, posted.at, self.source(posted))
         while True:
             try:
@@ -147,30 +263,36 @@ class LivePlayer:
 
     def _show(self, t: float) -> None:
         self.position = t
-        state, _ = self.session.tick(t)
-        if self.record is not None:
-            self.record.follow(self.session)
+        # What the face showed at `t`: the session may have begun newer steps in its lead since.
+        while len(self._showing) > 1 and self._showing[1][1] <= t:
+            self._showing.pop(0)
+        while len(self._robots) > 1 and self._robots[1][0] <= t:
+            self._robots.pop(0)
+        state = self.session.face.at(self._showing[0], t)
+        robot = self._robots[0][1]
+        note = self.note
+        if self.follow is not None:
+            state = self.follow.look(state, t, robot)
+            note = "  ".join(filter(None, (self.follow.note(), note)))
         self._state = state
-        self._follow_speech(t)
-        face = self.session.face
-        length = self.duration if self.duration is not None else t
-        status = status_line(t, length, face.robot, state.head_pan, self.note)
+        status = status_line(t, self.length(), robot, state.head_pan, note)
         self.screen.show(self.renderer.render(state), status)
         self.frames_shown += 1
 
-    def _follow_speech(self, t: float) -> None:
-        """A timeline begun since the last frame: its speech is what the face says from now on."""
-        face = self.session.face
-        timeline, started = face.timeline, face.started
-        if not self._said.follow(timeline, started, t):
-            if self._cues is not None:
-                self._cues.tick(self.clock())
+    def _follow_speech(self, now: float) -> None:
+        """A timeline begun since the last frame: its speech is what the face says from its start
+        on; what the one before still had to say is silenced (an interrupt cut it short)."""
+        timeline, started = self.session.face.playing
+        if not self._said.follow(timeline, started, now):
             return
-        if self.sound is not None:
-            self.sound.stop()
+        if self.sound is not None and self._spoken is not None:
+            spoken, since = self._spoken
+            if spoken.sounding(started - since):
+                self.sound.stop()
         self._cues = None
+        self._spoken = (timeline, started)
         if timeline.speech and self.open_sound is not None:
-            if self.sound is None:
+            if self.sound is None:  # a script that speaks where it was not seen to
                 self.sound = self.open_sound()
             assert self.origin is not None
             self._cues = SpeechCues(self.sound, timeline.speech, self.origin + started)

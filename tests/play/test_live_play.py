@@ -43,7 +43,7 @@ def live(text: str, screen, **options) -> LivePlayer:
     clock = FakeClock()
     session = LiveSession(parse(text, "t.face"), seed=0, idle=False)
     renderer = Renderer(Theme.default().layers((256, 150)))
-    return LivePlayer(session, renderer, screen, 30.0, clock=clock, sleep=clock.sleep, **options)
+    return LivePlayer(session, renderer, screen, 30.0, clock=clock, sleep=clock.sleep, live=True, **options)
 
 
 def logged(player: LivePlayer):
@@ -152,7 +152,15 @@ def test_a_live_play_with_a_log_keeps_its_script_events_lines_and_end(tmp_path):
     renderer = Renderer(Theme.default().layers((256, 150)))
     trace = parse_trace("0.5 button ok", "t.events")
     player = LivePlayer(
-        session, renderer, ClickingScreen(40), 30.0, trace, clock=clock, sleep=clock.sleep, record=record
+        session,
+        renderer,
+        ClickingScreen(40),
+        30.0,
+        trace,
+        clock=clock,
+        sleep=clock.sleep,
+        record=record,
+        live=True,
     )
     player.run()
     record.close(player.position)

@@ -18,9 +18,9 @@ import pytest
 from baxterface_cli import parse
 from baxterface_cli.drawing.renderer import Renderer
 from baxterface_cli.drawing.theme import Theme
-from baxterface_cli.engine.animation import Animation
-from baxterface_cli.engine.compiler import compile_script
-from baxterface_cli.play.player import Player, TerminalScreen
+from baxterface_cli.engine.live_session import LiveSession
+from baxterface_cli.play.live_player import LivePlayer
+from baxterface_cli.play.screens import TerminalScreen
 from baxterface_cli.speech.sound_device import START_AHEAD, SoundOut
 from conftest import ROOT
 from playing import FakeClock, spawn_play
@@ -151,29 +151,56 @@ class CostlyScreen:
         return True
 
 
+def playing(text: str, screen, clock: FakeClock, **options) -> LivePlayer:
+    """A player of `text` on `clock`, as `play` makes one: its session, and a fresh one each lap."""
+    script = parse(text)
+
+    def fresh() -> LiveSession:
+        return LiveSession(script, seed=0, idle=False)
+
+    renderer = Renderer(Theme.default().layers((64, 40)))
+    return LivePlayer(fresh(), renderer, screen, 30, clock=clock, sleep=clock.sleep, fresh=fresh, **options)
+
+
 def test_looping_a_script_that_takes_no_time_holds_it_without_spinning():
-    timeline = compile_script(parse("enable"))
-    assert timeline.duration == 0
     clock = FakeClock()
     screen = CostlyScreen(clock, lambda: 0.0)
     screen.alive = lambda: len(screen.shown) < 90  # about three seconds, then the user closes it
-    player = Player(
-        Animation(timeline), Renderer(Theme.default().layers((64, 40))), screen, 30, clock, clock.sleep
-    )
+    player = playing("enable", screen, clock)
     played = player.run(loop=True)
+    assert player.length() == 0
     assert played == pytest.approx(3.0, abs=0.1)  # it slept between frames: one frame per 1/30 s
+
+
+def test_looping_starts_the_script_again_at_its_end_from_its_first_face():
+    clock = FakeClock()
+    frames = []
+
+    class Screen(CostlyScreen):
+        def show(self, frame, status) -> None:
+            frames.append(np.array(frame))
+            super().show(frame, status)
+
+    screen = Screen(clock, lambda: 0.0)
+    screen.alive = lambda: len(screen.shown) < 50  # a lap is 0.8 s: 24 frames and its last
+    player = playing("happy; look 40 -20 in 0.5s", screen, clock)
+    player.run(loop=True)
+    # 24 frames to 0.77 s and one at its end, 0.8 s: then the next lap's first.
+    laps = [i for i in range(1, 50) if screen.shown[i] == "0.0" and screen.shown[i - 1] == "0.8"]
+    assert laps == [25] and clock.now - 100.0 == pytest.approx(1.6, abs=1 / 30)  # two laps
+    again = laps[0]
+    assert np.array_equal(frames[again], frames[0])  # a fresh session: the first face, not the last
+    assert not np.array_equal(frames[again - 1], frames[0])
 
 
 @pytest.mark.parametrize("cost", [0.002, 0.02, 0.07])
 def test_playback_keeps_time_without_drift_dropping_frames_when_late(cost):
-    timeline = compile_script(parse("look 40 0 in 5s; look 0 0 in 5s"))
     clock = FakeClock()
     rng = random.Random(1)
     screen = CostlyScreen(clock, lambda: cost * rng.uniform(0.5, 1.5))
-    player = Player(
-        Animation(timeline), Renderer(Theme.default().layers((64, 40))), screen, 30, clock, clock.sleep
-    )
+    player = playing("look 40 0 in 5s; look 0 0 in 5s", screen, clock)
     played = player.run()
+    assert player.position == 10.0  # its last frame is its end
     assert abs(played - 10.0) <= 1 / 30 + 1.5 * cost  # the last frame's own cost may add
     if cost < 1 / 30:
         assert len(screen.shown) >= 300  # every frame shown
@@ -228,8 +255,15 @@ class SayingScreen(CostlyScreen):
         super().show(frame, status)
 
 
+@pytest.fixture(autouse=True)
+def fake_voice(monkeypatch):
+    """Every `say` a 0.4 s utterance, made at once: the compiler's voice for these tests."""
+    from baxterface_cli.engine import compiler
+
+    monkeypatch.setattr(compiler, "engine_say", fake_speak)
+
+
 def speaking_player(text, cost=0.002, latency=0.12, screen_class=SayingScreen):
-    timeline = compile_script(parse(text), speak=fake_speak)
     clock = FakeClock()
     screen = screen_class(clock, lambda: cost)
     sound = FakeSound(clock, latency)
@@ -239,15 +273,7 @@ def speaking_player(text, cost=0.002, latency=0.12, screen_class=SayingScreen):
         opened.append(clock.now)
         return sound
 
-    player = Player(
-        Animation(timeline),
-        Renderer(Theme.default().layers((64, 40))),
-        screen,
-        30,
-        clock,
-        clock.sleep,
-        sound=open_sound,
-    )
+    player = playing(text, screen, clock, sound=open_sound, speaks="say" in text)
     return player, screen, sound, opened
 
 
@@ -280,14 +306,14 @@ def test_an_utterance_started_late_skips_what_it_missed_and_keeps_to_the_script_
 
 def test_looping_says_it_again_each_time_round_and_stops_when_closed():
     player, screen, sound, _ = speaking_player('say "again"; wait 0.1s', cost=0.0)
-    screen.alive = lambda: (
-        screen.clock.now < 100.0 + 0.12 + START_AHEAD + 2.6
-    )  # five laps of 0.5 s, and a bit
+    lead = 0.12 + START_AHEAD  # each lap starts its session that far ahead of its picture
+    # Five laps: the sixth's session would start as the fifth's picture ends.
+    screen.alive = lambda: screen.clock.now < 100.0 + lead + 4 * (0.5 + lead) + 0.45
     player.run(loop=True)
-    assert len(sound.heard) == 6  # five laps, and the sixth's started ahead of its time
+    assert len(sound.heard) == 5 and sound.cut == [0.0] * 5  # each lap's words whole
     laps = np.diff(sound.heard)
-    assert laps == pytest.approx([0.5] * 5)
-    assert sound.stops == 2  # at the start, and as the window closed
+    assert laps == pytest.approx([0.5 + lead] * 4)
+    assert sound.stops == 6  # at the start and each lap's, and as the window closed
 
 
 def test_a_script_that_says_nothing_opens_no_sound():
@@ -301,14 +327,14 @@ def test_without_a_device_the_picture_keeps_its_own_time():
     player.open_sound = SoundOut  # the silent one: no device
     begun = player.clock()
     played = player.run()
-    assert player.cues is None
+    assert player.lead == 0.0
     assert played == pytest.approx(0.4, abs=1 / 30)  # no lead for a latency there is not
     assert screen.first_said == [begun]
 
 
 def test_a_reloaded_script_silences_the_old_one_and_speaks_from_its_start():
     player, screen, sound, _ = speaking_player('say "old"; wait 2s')
-    fresh = Animation(compile_script(parse('wait 0.1s; say "new"'), speak=fake_speak))
+    fresh = LiveSession(parse('wait 0.1s; say "new"'), seed=0, idle=False)
     polls: List[float] = []
 
     def poll():

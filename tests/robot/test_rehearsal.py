@@ -12,9 +12,9 @@ import pytest
 from baxterface_cli import parse
 from baxterface_cli.drawing.renderer import Renderer
 from baxterface_cli.drawing.theme import Theme
-from baxterface_cli.engine.animation import Animation
 from baxterface_cli.engine.compiler import compile_script
-from baxterface_cli.play.player import Player
+from baxterface_cli.engine.live_session import LiveSession
+from baxterface_cli.play.live_player import LivePlayer
 from baxterface_cli.robot.rehearsal import FollowSourceError, Rehearsal, open_source
 from conftest import ROOT, baxterface, needs
 from playing import FakeClock, spawn_play
@@ -152,7 +152,7 @@ def test_play_warns_when_the_script_follows_nothing(tmp_path):
 
 def test_the_player_hands_each_frame_to_the_rehearsal(tmp_path):
     trace = write_trace(tmp_path / "left.jsonl", person_at([9, 10], seconds=3))
-    timeline = compile_script(parse("follow human; wait 2s"))
+    session = LiveSession(parse("follow human; wait 2s"), seed=0, idle=False)
     clock = FakeClock()
     shown = []
 
@@ -166,9 +166,8 @@ def test_the_player_hands_each_frame_to_the_rehearsal(tmp_path):
             return True
 
     renderer = Renderer(Theme.default().layers((64, 38)))
-    player = Player(
-        Animation(timeline), renderer, Screen(), FPS, clock, clock.sleep, follow=Rehearsal(open_source(trace))
-    )
+    follow = Rehearsal(open_source(trace))
+    player = LivePlayer(session, renderer, Screen(), FPS, clock=clock, sleep=clock.sleep, follow=follow)
     player.run()
     assert "sees the human" in shown[-1] and "following human" in shown[-1]
 

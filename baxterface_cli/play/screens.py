@@ -1,28 +1,18 @@
-"""Play an animation in real time on this machine: in a Tk window or a terminal.
-
-Frames are scheduled on absolute times from the start (frame i at i/fps),
-so a slow frame makes the next one come sooner, never the whole show later:
-a late frame is dropped rather than delaying the rest. A script that speaks
-starts each utterance on the same clock (see `audio.SpeechCues`).
-"""
+"""Where `play` shows the face: a terminal in truecolor half-blocks or a Tk window, each with
+the status line under the face that shows what only the robot could."""
 
 from __future__ import annotations
 
 import os
 import shutil
 import sys
-import time
 from typing import Callable, List, Optional, TextIO, Tuple
 
 import numpy as np
 from PIL import Image
 
-from ..drawing.renderer import Renderer
-from ..engine.animation import Animation
 from ..engine.effects import quoted
 from ..engine.timeline import RobotStatus
-from ..robot.rehearsal import Rehearsal
-from ..speech.sound_device import START_AHEAD, SoundOut, SpeechCues
 
 UPPER_HALF = "\u2580"
 
@@ -173,114 +163,3 @@ def window_available() -> Optional[str]:
     except ImportError:
         return "this Python has no tkinter"
     return None
-
-
-class Player:
-    """Shows an animation on a screen in real time."""
-
-    def __init__(
-        self,
-        animation: Animation,
-        renderer: Renderer,
-        screen,
-        fps: float = 30.0,
-        clock: Callable[[], float] = time.monotonic,
-        sleep: Callable[[float], None] = time.sleep,
-        on_time: Optional[Callable[[float], None]] = None,
-        sound: Optional[Callable[[], SoundOut]] = None,
-        follow: Optional[Rehearsal] = None,
-    ) -> None:
-        self.animation = animation
-        self.renderer = renderer
-        self.screen = screen
-        self.fps = fps
-        self.clock = clock
-        self.sleep = sleep
-        self.frames_shown = 0
-        self.position = 0.0  # the script time of the last frame shown
-        self.began: Optional[float] = None
-        self.note = ""
-        self.on_time = on_time  # told each frame's time first: for robot actions
-        self.open_sound = sound  # called once, when the first script that speaks starts
-        self.sound: Optional[SoundOut] = None
-        self.cues: Optional[SpeechCues] = None
-        self.follow = follow  # following against a recorded source (`play --follow-from`)
-
-    def run(
-        self, loop: bool = False, hold: bool = False, poll: Optional[Callable[[], Optional[Animation]]] = None
-    ) -> float:
-        """Play to the end (again and again with `loop`; then keep the last frame with `hold`).
-
-        A script that takes no time, looped, is held rather than spun.
-
-        `poll`, called between frames, may hand over a new animation, which
-        starts from its beginning. Returns the seconds played.
-        """
-        self.began = self.clock()
-        ended = False
-        try:
-            start = self._begin(loop)
-            while self.screen.alive():
-                if poll is not None:
-                    fresh = poll()
-                    if fresh is not None:
-                        self.animation = fresh
-                        start = self._begin(loop)
-                elapsed = self.clock() - start
-                duration = self.animation.duration
-                if elapsed > duration:
-                    if loop and duration > 0:
-                        start += duration * int(elapsed // duration)
-                        continue
-                    self._show(duration)
-                    if not hold and not loop:
-                        ended = True  # the last words are out but for what the device still holds
-                        break
-                    self.sleep(1.0 / self.fps)  # keep the last frame, and keep polling
-                    continue
-                # Before `start`, the first frame; a hair over each tick counts as there (float rounding).
-                index = int(max(0.0, min(elapsed, duration)) * self.fps + 1e-9)
-                self._show(index / self.fps)
-                if self.cues is not None:
-                    self.cues.tick(self.clock())
-                wait = start + (index + 1) / self.fps - self.clock()
-                if wait > 0:
-                    self.sleep(wait)
-        finally:
-            if self.sound is not None and not ended:  # stopped early: not a word more
-                self.sound.stop()
-        return self.clock() - self.began
-
-    def _begin(self, loop: bool) -> float:
-        """Start the animation from its beginning, its sound with it; returns the clock time of t=0."""
-        speech = self.animation.timeline.speech
-        if speech and self.sound is None and self.open_sound is not None:
-            self.sound = self.open_sound()  # before the clock starts: finding a device takes a while
-        if self.sound is not None:
-            self.sound.stop()  # a reloaded or restarted script does not talk over its old self
-        self.cues = None
-        if not speech or self.sound is None or not self.sound.available:
-            return self.clock()
-        # The picture waits out the device's latency, so the first words are heard with their frame.
-        start = self.clock() + self.sound.latency + START_AHEAD
-        self.cues = SpeechCues(self.sound, speech, start, self.animation.duration if loop else 0.0)
-        self.cues.tick(self.clock())
-        return start
-
-    def elapsed(self) -> float:
-        """Seconds since `run` began (0 before)."""
-        return 0.0 if self.began is None else self.clock() - self.began
-
-    def _show(self, t: float) -> None:
-        self.position = t
-        if self.on_time is not None:
-            self.on_time(t)
-        state = self.animation.sample(t)
-        robot = self.animation.timeline.status(t)
-        note = self.note
-        if self.follow is not None:
-            state = self.follow.look(state, t, robot)
-            note = "  ".join(filter(None, (self.follow.note(), note)))
-        status = status_line(t, self.animation.duration, robot, state.head_pan, note)
-        self.screen.show(self.renderer.render(state), status)
-        self.frames_shown += 1
