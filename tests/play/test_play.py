@@ -193,6 +193,52 @@ def test_looping_starts_the_script_again_at_its_end_from_its_first_face():
     assert not np.array_equal(frames[again - 1], frames[0])
 
 
+REACTING = """\
+happy; look 40 -20 in 0.5s; one of { wink left | nod | sad }
+wait until button ok
+repeat 3 { blink; look left in 0.3s; look right in 0.2s }
+on touch { surprise; look up in 0.4s }
+wobble 0.3
+"""
+
+
+@pytest.mark.parametrize("seed", [1, 3])
+def test_play_shows_the_frames_render_makes_and_ends_where_its_run_does(seed):
+    from baxterface_cli.engine.animation import Animation
+    from baxterface_cli.engine.session_run import run_over
+    from baxterface_cli.language.event_trace import parse_trace
+
+    trace = parse_trace("1.2 button ok\n2.0 touch\n", "t.events")
+    recorded = Animation(run_over(parse(REACTING), trace, seed).timeline, idle=False)
+    clock, shown = FakeClock(), []
+
+    class Screen:
+        name = "fake"
+
+        def show(self, frame, status) -> None:
+            shown.append((player.position, np.array(frame)))
+
+        def alive(self) -> bool:
+            return True
+
+    layers = Theme.default().layers((128, 75))
+    session = LiveSession(parse(REACTING), seed=seed, idle=False)
+    player = LivePlayer(session, Renderer(layers), Screen(), 30, trace, clock=clock, sleep=clock.sleep)
+    player.run()
+    assert player.position == pytest.approx(recorded.duration) and len(shown) > 100
+    drawn = Renderer(layers)
+    assert all(np.array_equal(frame, drawn.render(recorded.sample(t))) for t, frame in shown)
+
+
+def test_a_forever_with_no_events_goes_round_until_the_screen_closes():
+    clock = FakeClock()
+    screen = CostlyScreen(clock, lambda: 0.0)
+    screen.alive = lambda: len(screen.shown) < 150  # five seconds: two and a half rounds
+    player = playing("forever { look left in 1s; look right in 1s }", screen, clock)
+    assert player.run() == pytest.approx(5.0, abs=0.1)
+    assert player.length() == pytest.approx(5.0)  # as far as it is known: its third round's first look
+
+
 @pytest.mark.parametrize("cost", [0.002, 0.02, 0.07])
 def test_playback_keeps_time_without_drift_dropping_frames_when_late(cost):
     clock = FakeClock()
