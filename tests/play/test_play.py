@@ -22,7 +22,7 @@ from baxterface_cli.engine.live_session import LiveSession
 from baxterface_cli.play.live_player import LivePlayer
 from baxterface_cli.play.screens import TerminalScreen
 from baxterface_cli.speech.sound_device import START_AHEAD, SoundOut
-from conftest import ROOT
+from conftest import ROOT, baxterface
 from playing import FakeClock, spawn_play
 
 SCRIPT = "happy; look 40 -20 in 0.5s; wobble 0.3; enable; follow human dynamic; wait 0.3s"
@@ -73,6 +73,30 @@ def test_play_watch_keeps_the_last_good_version_on_errors(tmp_path):
     child.sendintr()
     child.expect(pexpect.EOF)
     child.close()
+
+
+def test_play_watch_plays_each_version_of_a_script_that_reacts_over_its_events(tmp_path):
+    script = tmp_path / "r.face"
+    script.write_text("wait until button ok\nlook up in 2s\n", encoding="utf-8")
+    events = tmp_path / "r.events"
+    events.write_text("0.5 button ok\n", encoding="utf-8")
+    child = spawn_play("--watch", "--events", str(events), str(script))
+    child.expect("/2.5s")  # the look, after the event half a second in
+    script.write_text("wait until button ok\nlook down in 4s\n", encoding="utf-8")
+    child.expect("/4.5s", timeout=10)  # the new version, from its start, over the same events
+    child.sendintr()
+    child.expect(pexpect.EOF)
+    child.close()
+    assert child.exitstatus == 130
+
+
+def test_play_watch_does_not_go_with_listening(tmp_path):
+    (tmp_path / "s.face").write_text('on word "hello" { happy }\n', encoding="utf-8")
+    for option in ("--listen", "--hear=said.wav"):
+        run = baxterface("play", "--terminal", "--watch", option, "s.face", cwd=tmp_path)
+        assert (
+            run.code == 2 and run.err.strip() == "baxterface play: --watch goes without --hear and --listen"
+        )
 
 
 def test_no_display_and_no_terminal_says_to_render():
