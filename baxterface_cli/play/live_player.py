@@ -155,7 +155,7 @@ class LivePlayer:
                 end = self._take(t)
                 if end is not None and t >= end:
                     self._show(end)
-                    if loop and end > 0 and self.fresh is not None and not self.session.exited:
+                    if loop and end > 0 and self.fresh is not None:
                         self._start(self.fresh(), self.origin + end)
                         index = 0
                         continue
