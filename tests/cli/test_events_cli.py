@@ -6,10 +6,11 @@ from __future__ import annotations
 
 import pytest
 
+from baxterface_cli.core.face_state import FaceState
 from baxterface_cli.engine.live_face import LiveFace
 from baxterface_cli.language.diagnostics import ScriptError
+from baxterface_cli.language.parser import parse
 from conftest import baxterface
-from live_commands import command
 
 SCRIPT = """\
 sleep
@@ -94,13 +95,13 @@ def test_play_refuses_handlers_without_events(files):
 def test_a_live_face_alone_refuses_a_script_that_reacts_in_one_line():
     face = LiveFace()  # its session runs handlers (engine/live_session.py); alone, it compiles as render does
     with pytest.raises(ScriptError) as caught:
-        command(face, "blink\non face seen { nod }", 1.0)
+        face.prepare(parse("blink\non face seen { nod }", "display_chatter"), FaceState())
     assert caught.value.summary() == (
         "display_chatter:2:1: error: 'on face seen' runs in render, play and explain (with --events FILE); "
         "a timeline compiled alone (compile_script) does not run handlers, waits, signals, "
         "'forever' or 'one of' yet"
     )
-    command(face, "blink", 1.0)  # and goes on taking what it can run
+    face.begin(face.prepare(parse("blink", "display_chatter"), FaceState()), 1.0)  # and goes on
 
 
 def reactions(tmp_path, script: str, events: str):

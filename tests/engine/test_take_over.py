@@ -6,16 +6,15 @@ import pytest
 
 from baxterface_cli.core.face_constants import EMOTIONS
 from baxterface_cli.core.presets import emotion_preset
-from baxterface_cli.engine.live_face import LiveFace
 from baxterface_cli.engine.live_session import LiveSession
 from baxterface_cli.engine.session_intake import SessionIntake
-from live_commands import command
+from live_commands import SessionFace, command
 from tests.support.waiting import eventually
 
 
 @pytest.mark.parametrize("seed", range(4))
 def test_a_wink_just_after_an_emotion_lets_the_face_become_that_emotion(seed):
-    live = LiveFace(idle=False, seed=seed)
+    live = SessionFace(idle=False, seed=seed)
     command(live, "happy", now=0.0)
     command(live, "sad", now=2.0)
     command(live, "wink left", now=2.1)  # while sad's lids move, before its mouth changes
@@ -30,7 +29,7 @@ def test_a_wink_just_after_an_emotion_lets_the_face_become_that_emotion(seed):
 
 
 def test_a_wink_still_reopens_when_a_command_comes_while_it_is_shut():
-    live = LiveFace(idle=False, seed=1)
+    live = SessionFace(idle=False, seed=1)
     command(live, "wink right", now=0.0)
     command(live, "happy", now=0.2)
     assert live.state(0.25).expression.lid_right == 0.0
@@ -38,7 +37,7 @@ def test_a_wink_still_reopens_when_a_command_comes_while_it_is_shut():
 
 
 def test_a_morph_under_way_finishes_under_a_command_that_moves_other_numbers():
-    live = LiveFace(idle=False, seed=1)
+    live = SessionFace(idle=False, seed=1)
     command(live, "mouth curve -1 in 1s", now=0.0)
     command(live, "brows height 1 in 1s", now=0.5)
     later = live.state(3.0).expression
@@ -47,7 +46,7 @@ def test_a_morph_under_way_finishes_under_a_command_that_moves_other_numbers():
 
 
 def test_a_command_moving_the_same_number_takes_over_from_where_it_has_got_to():
-    live = LiveFace(idle=False, seed=1)
+    live = SessionFace(idle=False, seed=1)
     command(live, "mouth curve -1 in 1s", now=0.0)  # from the default's 1
     command(live, "mouth curve 1 in 1s", now=0.5)
     assert live.state(0.5).expression.mouth_curve == pytest.approx(0.0)
@@ -55,7 +54,7 @@ def test_a_command_moving_the_same_number_takes_over_from_where_it_has_got_to():
 
 
 def test_statements_not_yet_begun_are_dropped():
-    live = LiveFace(idle=False, seed=1)
+    live = SessionFace(idle=False, seed=1)
     command(live, "wait 1s; look 40 0 in 0.5s; sad", now=0.0)
     command(live, "wink left", now=0.5)
     assert live.state(5.0).eye_x == 0.0

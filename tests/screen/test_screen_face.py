@@ -12,7 +12,6 @@ from baxterface_cli.core.face_state import FaceState
 from baxterface_cli.language.diagnostics import ScriptError
 from baxterface_cli.language.parser import parse
 from baxterface_cli.screen.screen_face import ScreenFace
-
 from tests.support.waiting import caught_up
 
 

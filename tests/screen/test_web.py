@@ -150,10 +150,10 @@ def test_every_page_gets_each_changed_frame_and_none_while_the_face_is_still(scr
         for page in watching:
             page.frames.clear()
         screen.json("POST", "/api/command", "look right in 0.5s")
-        ended = eventually(lambda: not_playing(screen))
+        at_rest = eventually(lambda: not_playing(screen))
         for page in watching:
             # Past the move's end by a status or two: the status goes on every second, frames do not.
-            page.until(lambda m: isinstance(m, str) and json.loads(m)["t"] > ended + 1.2)
+            page.until(lambda m: isinstance(m, str) and json.loads(m)["t"] > at_rest + 1.2)
             assert len(page.frames) >= 5  # the move, frame by frame (30 a second at most)
             assert all(a != b for a, b in zip(page.frames, page.frames[1:]))  # each one a change
             ended = len(page.frames)

@@ -299,16 +299,17 @@ def test_a_confined_folder_refuses_paths_that_leave_it(recorded, tmp_path):
 
 
 def test_the_live_face_reads_no_recording_unless_given_a_folder(recorded):
+    from baxterface_cli.core.face_state import FaceState
     from baxterface_cli.engine.live_face import LiveFace
     from baxterface_cli.engine.live_session import LiveSession
     from baxterface_cli.engine.session_intake import SessionIntake
+    from baxterface_cli.language.parser import parse
     from baxterface_cli.speech.recordings import Recordings
-    from live_commands import command
     from waiting import eventually
 
     folder, _ = recorded
     with pytest.raises(Exception, match="reads no recordings"):
-        command(LiveFace(idle=False), 'say file "said.wav"', 0.0)
+        LiveFace(idle=False).prepare(parse('say file "said.wav"', "display_chatter"), FaceState())
     session = LiveSession(idle=False, recordings=Recordings(folder, confined=True))
     logged = []
     with SessionIntake(session, lambda: 0.0, log=lambda level, text: logged.append(text)) as intake:

@@ -118,15 +118,16 @@ def test_repeated_recordings_count_as_long_as_their_files(tmp_path):
 
 
 def test_a_live_face_refuses_recordings_longer_than_the_limit(tmp_path):
+    from baxterface_cli.core.face_state import FaceState
     from baxterface_cli.engine.live_face import LiveFace
     from baxterface_cli.language.diagnostics import ScriptError
+    from baxterface_cli.language.parser import parse
     from baxterface_cli.speech.recordings import Recordings
-    from live_commands import command
 
     sox("-n", "-r", "16000", "-b", "16", "-c", "1", str(tmp_path / "ok.wav"), "synth", "2.9", "sine", "300")
     live = LiveFace(idle=False, recordings=Recordings(tmp_path, confined=True))
     with pytest.raises(ScriptError, match="display_chatter:1:1: error: the script runs 8 hours"):
-        command(live, 'repeat 10000 { say file "ok.wav" }', 0.0)
+        live.prepare(parse('repeat 10000 { say file "ok.wav" }', "display_chatter"), FaceState())
 
 
 # -- recordings that are not what they seem -----------------------------------------------------
