@@ -84,7 +84,7 @@ def main() -> int:
             workspace.event(lines[i % 2])
             costs.append(time.perf_counter() - started)
         after_mb = rss_mb()
-        events = list(workspace.preview.events)
+        events = list(workspace.preview.inputs)
         run_length = workspace.preview.duration
     script = parse(GREETER, "greeter.face")
     idle = "off" if options.no_idle else "on"
@@ -114,7 +114,7 @@ EDIT = GREETER + "on face seen {\n  happy\n}\n"
 def edit(workspace: Workspace, count: int) -> None:
     """The edit at the last event: gone on with (now) against run again over every event (before)."""
     now, again = [], []
-    events = tuple(workspace.preview.events)
+    events = tuple(workspace.preview.inputs)
     for i in range(3):
         text = EDIT if i % 2 == 0 else GREETER  # back and forth: each one an edit of the last
         started = time.perf_counter()

@@ -3,7 +3,9 @@
 
 The log's first script is the one the session runs from the start; the events after it come at
 their times, and the scripts after it as what they were: a command that takes over, or one sent
-to wait (`queued`), started when the face is free, as the live intake starts it. Times are the
+to wait (`queued`), started when the face is free, as the live intake starts it. A studio's log
+(or its export) is its last script over the events fired and the commands pressed since its last
+`cleared`, each at its `at` on the run (studio/studio_log.py). Times are the
 log's, less its first script's: the replay's 0 is the moment the face began it. Its end is the
 log's `end` record, if it has one; else where the session comes to rest (session_run.py).
 
@@ -111,8 +113,8 @@ def _replay(
     script: Optional[n.Script] = None
     origin = 0.0
     settings = start.get("settings") if isinstance(start.get("settings"), dict) else {}
-    # The studio runs its events again over each script it plays, at their times on that run
-    # (`at`): its replay is the last script over the events since the last `cleared`.
+    # The studio runs its events and pressed commands again over each script it plays, at their
+    # times on that run (`at`): its replay is the last script over those since the last `cleared`.
     studio = settings.get("end") == "studio"
     later: List[Later] = []
     events: List[Posted] = []
@@ -121,14 +123,18 @@ def _replay(
     for number, record in records[1:]:
         kind, t = record["type"], float(record["t"])
         if kind == "script":
-            if studio and record.get("press") is True:  # played in the studio's live session, apart
-                continue
+            pressed = studio and record.get("press") is True
+            at = record.get("at")
+            if pressed and (isinstance(at, bool) or not isinstance(at, (int, float))):
+                continue  # a press of a studio before its presses were the session's: played apart
             try:
                 read = parse(str(record.get("text", "")), str(record.get("source") or path))
             except ScriptError:
                 refused += 1
                 continue
-            if script is None or studio:
+            if pressed:  # a command pressed in the studio's panel: it takes over at `at` on the run
+                later.append(Later(max(0.0, at), read, False, number))  # type: ignore[arg-type]
+            elif script is None or studio:
                 script, origin = read, t
             else:
                 later.append(Later(t - origin, read, record.get("queued") is True, number))
@@ -145,6 +151,7 @@ def _replay(
             events.append(Posted(max(0.0, at), event, number, str(record.get("source") or "")))
         elif kind == "cleared" and studio:
             events.clear()
+            later.clear()
         elif kind == "end" and script is not None and not studio:
             end = max(0.0, t - origin)
     if script is None:
@@ -152,6 +159,7 @@ def _replay(
     if refused:
         notes.append(f"{path}: {refused} command{'s' if refused != 1 else ''} the face refused live left out")
     events.sort(key=lambda e: (e.at, e.line))  # the studio's, fired as its preview was sought
+    later.sort(key=lambda e: (e.at, e.line))
     seed = settings.get("seed")
     seed = seed if isinstance(seed, int) and not isinstance(seed, bool) else None
     return Replay(script, tuple(later), Trace(tuple(events), path), end, seed, tuple(notes))

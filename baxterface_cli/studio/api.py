@@ -67,11 +67,11 @@ class StudioApi(FaceApi):
         ]
 
     def take(self, text: str) -> Dict[str, Any]:
-        """A press: played in the session, or taken by the script's run when it reacts (and on the
-        robot when switched on)."""
+        """A press, taken by the session's run as the face node takes a command (and on the robot
+        when switched on)."""
         try:
             return {**self.workspace.press(text), "session": self.workspace.session()}
-        except TooManyEvents as e:  # a `signal` pressed past the events a session holds
+        except TooManyEvents as e:  # a press past the inputs a session holds
             raise BadRequest(str(e)) from None
 
     def fire(self, event: Event, source: str) -> Dict[str, Any]:
@@ -89,8 +89,8 @@ class StudioApi(FaceApi):
 
     def told(self, answer: Dict[str, Any]) -> None:
         self.pages.send({"kind": "session", "session": answer["session"]})
-        if answer.get("reacting"):  # the run changed: its events bar and timeline with it
-            self.pages.send({"kind": "timeline", "timeline": self.workspace.timeline()})
+        # The run changed: its events bar and timeline with it.
+        self.pages.send({"kind": "timeline", "timeline": self.workspace.timeline()})
 
     def _disk_changes(self) -> List[Dict[str, Any]]:
         """What changed on disk, with the new timeline after the script itself changed."""

@@ -1,16 +1,19 @@
-"""A script's run over the events fired at it so far, kept so that the next event continues it.
+"""The studio's one live session: the editor's script run over what came to it so far, the
+events fired at it and the commands pressed in the panel, kept so that the next one continues it.
 
-`render --events` runs a script over an events file in one go (engine/session_run.py). The studio
-gets its events one at a time, at the preview's position, and used to run the script again over
-all of them at each one: the 200th cost 25 times the first. Here the run is kept at its last
-event (a checkpoint: the live session just after it, never advanced further) and a copy of it
-(engine/session_fork.py) takes the next event and runs on to the end; the timelines it played
-before are kept, joined in chapters (chained.py). So an event fired at the end costs the same at
-the 2,000th as at the first, and the run is the one `render --events` makes of the same events,
-to the bit: the same calls, in the same order, on an exact copy.
+`render --events` runs a script over an events file in one go, and `render LOG.jsonl` over a
+session's log, commands and all (engine/session_run.py, engine/log_replay.py). The studio gets its
+inputs one at a time, at the preview's position: an event is posted to the session there; a
+command (`Command`) takes over there, a new main script from the face as it is, as a command on
+the face node does. Running the script again over all of them at each one made the 200th cost 25
+times the first; here the run is kept at its last input (a checkpoint: the live session just
+after it, never advanced further) and a copy of it (engine/session_fork.py) takes the next one and
+runs on to the end; the timelines it played before are kept, joined in chapters (chained.py). So
+an input at the end costs the same at the 10,000th as at the first, and the run is the one
+`render` makes of the same inputs, to the bit: the same calls, in the same order, on an exact copy.
 
-An event fired earlier than the last (the preview sought back) continues from the nearest kept
-checkpoint before it, one every `EVERY` events, running on over the events after it.
+An input earlier than the last (the preview sought back) continues from the nearest kept
+checkpoint before it, one every `EVERY` inputs, running on over the inputs after it.
 
 An edit of the script (`edited`) whose change no event has yet reached, only handlers changed,
 added or dropped, continues likewise from the nearest checkpoint before the first event one of them
@@ -21,7 +24,7 @@ run before it is the same, call for call. Any other edit runs the script again f
 from __future__ import annotations
 
 import bisect
-from typing import TYPE_CHECKING, Dict, List, NamedTuple, Optional, Tuple
+from typing import TYPE_CHECKING, Dict, List, NamedTuple, Optional, Tuple, Union
 
 from ..engine.live_session import LiveSession
 from ..engine.session_fork import exactly, fork, rebase
@@ -38,11 +41,22 @@ if TYPE_CHECKING:
     from ..speech.recordings import Recordings
 
 WINDOW = 30.0  # seconds a run that never rests is shown past its last event
-EVERY = 16  # events between the checkpoints kept for an event fired back among the others
+EVERY = 16  # inputs between the checkpoints kept for one that comes back among the others
+
+
+class Command(NamedTuple):
+    """A command pressed in the panel: a new main script at `at` on the run, taking over from the face
+    as it is there (its handlers' and states' statements stay with the editor's script)."""
+
+    at: float
+    script: n.Script
+
+
+Input = Union[Posted, Command]
 
 
 class Checkpoint(NamedTuple):
-    posted: int  # the run's first `posted` events are in it
+    posted: int  # the run's first `posted` inputs are in it
     session: LiveSession  # just after them: only copies of it go on
     segments: int  # the timelines it had played by then
     lines: int  # the log lines it had written by then
@@ -50,7 +64,7 @@ class Checkpoint(NamedTuple):
 
 
 class EventRun:
-    """The run of `script` over `events` (see the module's docstring); each `with_event` makes a
+    """The run of `script` over `inputs` (see the module's docstring); each `with_input` makes a
     new one and leaves this one as it was, so a failure changes nothing."""
 
     def __init__(
@@ -58,20 +72,23 @@ class EventRun:
         script: n.Script,
         seed: Optional[int],
         recordings: Optional[Recordings],
-        events: Tuple[Posted, ...],
+        inputs: Tuple[Input, ...],
         played: Segments,
         checkpoints: Tuple[Checkpoint, ...],
         chapters: Chapters,
         lines: Tuple[Logged, ...] = (),
         shown: bool = True,
+        handed: int = 0,
     ) -> None:
-        """`shown`: the run on to its end made now, for the preview (not for a run about to go on)."""
+        """`shown`: the run on to its end made now, for the preview (not for a run about to go on);
+        `handed`: the inputs handed to the session to make it from its checkpoint (what it cost)."""
         self.script, self.seed, self.recordings = script, seed, recordings
-        self.events = events
-        self.played = played  # the timelines played up to the last event, with their starts
-        self.lines = lines  # the session's log up to the last event (a copy's log starts empty)
+        self.inputs = inputs
+        self.played = played  # the timelines played up to the last input, with their starts
+        self.lines = lines  # the session's log up to the last input (a copy's log starts empty)
         self.checkpoints = checkpoints
         self.chapters = chapters
+        self.handed = handed
         if shown:
             self.timeline, self.counts = self._shown()
 
@@ -81,9 +98,9 @@ class EventRun:
         script: n.Script,
         seed: Optional[int],
         recordings: Optional[Recordings] = None,
-        events: Tuple[Posted, ...] = (),
+        inputs: Tuple[Input, ...] = (),
     ) -> EventRun:
-        """`script` run over `events` from the start (ScriptError or MissingTool if it cannot play)."""
+        """`script` run over `inputs` from the start (ScriptError or MissingTool if it cannot play)."""
         # As run_over makes it: the same session, given the same calls.
         # Its log whole: the studio's timeline shows the handlers' runs, states and events from it.
         session = LiveSession(
@@ -92,34 +109,34 @@ class EventRun:
         played, session.segments = list(session.segments or ()), []
         lines = tuple(session.log)
         first = (Checkpoint(0, session, len(played), len(lines), script),)
-        run = cls(script, seed, recordings, (), played, first, Chapters(), lines, shown=not events)
-        return run._continued(run.checkpoints[0], list(events)) if events else run
+        run = cls(script, seed, recordings, (), played, first, Chapters(), lines, shown=not inputs)
+        return run._continued(run.checkpoints[0], list(inputs)) if inputs else run
 
-    def with_event(self, posted: Posted) -> EventRun:
-        """This run with `posted` among its events, after any at the same time."""
-        at = [e.at for e in self.events]
-        i = bisect.bisect_right(at, posted.at)
-        events = [*self.events[:i], posted, *self.events[i:]]
+    def with_input(self, item: Input) -> EventRun:
+        """This run with `item` among its inputs, after any at the same time."""
+        at = [e.at for e in self.inputs]
+        i = bisect.bisect_right(at, item.at)
+        inputs = [*self.inputs[:i], item, *self.inputs[i:]]
         since = next(c for c in reversed(self.checkpoints) if c.posted <= i)
-        return self._continued(since, events)
+        return self._continued(since, inputs)
 
     def edited(self, script: n.Script) -> EventRun:
-        """`script` (the script edited) run over these events: from the start, or on from the last
+        """`script` (the script edited) run over these inputs: from the start, or on from the last
         checkpoint the edit does not reach (see the module's docstring)."""
-        reached = unreached(self.script, script, self.events)
+        reached = unreached(self.script, script, self.inputs)
         kept = tuple(c for c in self.checkpoints if c.posted <= reached)
         if reached == 0 or len(kept) < 2:
-            return EventRun.start(script, self.seed, self.recordings, self.events)
+            return EventRun.start(script, self.seed, self.recordings, self.inputs)
         # The checkpoints kept go on with the edit's handlers when one is used (`_continued`): what
         # the edits since a checkpoint's script changed, no event before it reached.
         run = EventRun(
-            script, self.seed, self.recordings, self.events, self.played, kept, self.chapters, self.lines,
+            script, self.seed, self.recordings, self.inputs, self.played, kept, self.chapters, self.lines,
             shown=False,
         )  # fmt: skip
-        return run._continued(kept[-1], list(self.events))
+        return run._continued(kept[-1], list(self.inputs))
 
-    def _continued(self, since: Checkpoint, events: List[Posted]) -> EventRun:
-        """The run from the checkpoint `since` on over the rest of `events` (the first
+    def _continued(self, since: Checkpoint, inputs: List[Input]) -> EventRun:
+        """The run from the checkpoint `since` on over the rest of `inputs` (the first
         `since.posted` of them are in it already)."""
         if since.script is not self.script:  # kept through an edit: with the edit's handlers now
             since = since._replace(session=rebase(since.session, self.script), script=self.script)
@@ -127,37 +144,40 @@ class EventRun:
         played = list(self.played[: since.segments])
         lines = list(self.lines[: since.lines])
         checkpoints = [c for c in self.checkpoints if c.posted < since.posted] + [since]
-        for k in range(since.posted, len(events)):
-            posted = events[k]
-            session.post(posted.event, posted.at, f"events:{k + 1}")
+        for k in range(since.posted, len(inputs)):
+            item = inputs[k]
+            if isinstance(item, Command):  # as `render LOG.jsonl` takes a command that takes over
+                session.run(item.script, item.at)
+            else:
+                session.post(item.event, item.at, f"events:{k + 1}")
             played += session.segments  # type: ignore[operator]
             session.segments = []
             lines += session.log
             session.log.clear()
-            if (k + 1) % EVERY == 0 or k + 1 == len(events):
+            if (k + 1) % EVERY == 0 or k + 1 == len(inputs):
                 checkpoints.append(Checkpoint(k + 1, session, len(played), len(lines), self.script))
-                if k + 1 < len(events):
+                if k + 1 < len(inputs):
                     session = fork(session)
-        # One every EVERY events, and the last: the run goes on from there.
+        # One every EVERY inputs, and the last: the run goes on from there.
         checkpoints = [c for c in checkpoints[:-1] if c.posted % EVERY == 0] + checkpoints[-1:]
         chapters = self.chapters.upto(since.segments).grown(played)
         return EventRun(
-            self.script, self.seed, self.recordings, tuple(events), played, tuple(checkpoints), chapters,
-            tuple(lines),
+            self.script, self.seed, self.recordings, tuple(inputs), played, tuple(checkpoints), chapters,
+            tuple(lines), handed=len(inputs) - since.posted,
         )  # fmt: skip
 
     def _shown(self) -> Tuple[Chained, Dict[str, int]]:
-        """The whole run, on from the last event to its end, as `run_over` ends it; and what its
+        """The whole run, on from the last input to its end, as `run_log` ends it; and what its
         handlers did in all. Its whole log is kept as `log`."""
         last = self.checkpoints[-1]
-        end_at = self.events[-1].at if self.events else 0.0
+        end_at = self.inputs[-1].at if self.inputs else 0.0
         tail = fork(last.session)
         duration: Optional[float] = None
         try:
-            end = settle(tail, self.script, end_at, bool(self.events), None)
+            end = settle(tail, self.script, end_at, bool(self.inputs), None)
         except NeverRests:
             tail, duration = fork(last.session), end_at + WINDOW
-            end = settle(tail, self.script, end_at, bool(self.events), duration)
+            end = settle(tail, self.script, end_at, bool(self.inputs), duration)
         segments = [*self.played, *(tail.segments or ())] or [(0.0, tail.face.timeline)]
         end = run_end(tail, segments, end, duration)
         self.log = (*self.lines, *tail.log)
@@ -166,10 +186,11 @@ class EventRun:
         return chained(self.chapters, segments, end), totals
 
 
-def unreached(old: n.Script, new: n.Script, events: Tuple[Posted, ...]) -> int:
-    """How many of `events` come before the edit from `old` to `new` can change the run: all of
+def unreached(old: n.Script, new: n.Script, inputs: Tuple[Input, ...]) -> int:
+    """How many of `inputs` come before the edit from `old` to `new` can change the run: all of
     them when none can; 0 when it may change it from the start (anything but handlers changed,
-    a timer's handler, or a signal's that a statement raises, whose time no events file says)."""
+    a timer's handler, or a signal's that a statement raises, the scripts' or a command's, whose
+    time no input says)."""
     rest = [[s for s in script.body if not isinstance(s, n.On)] for script in (old, new)]
     if not exactly(*rest) or old.legacy != new.legacy:
         return 0
@@ -181,8 +202,11 @@ def unreached(old: n.Script, new: n.Script, events: Tuple[Posted, ...]) -> int:
     if not exactly(*kept):  # the handlers kept in another order: which one takes an event first changes
         return 0
     changed = [on.event for mine, same in zip(ons, kept) for on in mine if not any(on is k for k in same)]
-    raised = {s.name for script in (old, new) for s in walk(script.body) if isinstance(s, n.Signal)}
+    commands = [i.script for i in inputs if isinstance(i, Command)]
+    said = (s for script in (old, new, *commands) for s in walk(script.body))
+    raised = {s.name for s in said if isinstance(s, n.Signal)}
     for event in changed:
         if event.kind in TIMERS or any(matches(event, n.Event("signal", name)) for name in raised):
             return 0
-    return next((k for k, e in enumerate(events) if any(matches(c, e.event) for c in changed)), len(events))
+    posted = ((k, i) for k, i in enumerate(inputs) if isinstance(i, Posted))
+    return next((k for k, e in posted if any(matches(c, e.event) for c in changed)), len(inputs))

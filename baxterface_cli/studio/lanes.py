@@ -12,6 +12,7 @@ import bisect
 from typing import Any, Dict, List
 
 from ..export.annotations import log_tiers
+from ..language.event_trace import Posted
 
 AROUND = 120.0  # seconds either side of the position whose bars are shown
 LANES = ("events", "handlers", "states", "said")
@@ -21,7 +22,7 @@ def lanes(preview: Any, t: float) -> Dict[str, List[Dict[str, Any]]]:
     """The bars of what `preview` (preview.py's) plays, around its position `t`."""
     run = preview.run
     log = run.log if run is not None else ()
-    events = run.events if run is not None else ()
+    events = [i for i in run.inputs if isinstance(i, Posted)] if run is not None else []
     low, high = t - AROUND, t + AROUND
     log = log[bisect.bisect_left([line.at for line in log], low) :]
     events = events[bisect.bisect_left([e.at for e in events], low) :]

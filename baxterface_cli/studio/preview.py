@@ -1,15 +1,18 @@
-"""What the studio's preview shows: the editor's script on a transport, or the live session.
+"""What the studio's preview shows: its one live session, the run of the editor's script over the
+events fired and the commands pressed (reacting.py, event_run.py), on a transport or live.
 
-Two sources, one face. The script plays, pauses, seeks and loops along its
-own timeline; a press switches the preview to the session, whose face
-carries on under the presses (see `presses.py`); pressing play switches back.
-No clock inside: every call is given `now`, so it is all tested without
-waiting.
+One run, two ways along it. On the transport (`SCRIPT`) it plays, pauses, seeks and loops along
+the run's length. A command pressed takes over the run at the preview's position and makes the
+preview live (`SESSION`): its position follows the clock from there, past the run's end (the
+session goes on with the clock), so the next press lands as long after it as it came. Play,
+pause and seek go back to the transport. No clock inside: every call is given `now`, so it is all
+tested without waiting.
 """
 
 from __future__ import annotations
 
 import math
+import random
 from typing import Any, Dict, List, Optional, Tuple
 
 from ..core.face_state import FaceState
@@ -17,14 +20,13 @@ from ..engine.animation import Animation
 from ..engine.compiler import compile_script
 from ..engine.effects import RobotStatus
 from ..engine.timeline import Said
-from ..language.event_trace import Posted
 from ..language.parser import parse
 from ..language.syntax_tree import Script
 from ..speech.recordings import Recordings
 from ..speech.synthesis import Utterance
 from ..web.sounds import sound_key
 from . import reacting
-from .presses import Pending, Presses
+from .event_run import Input
 
 SCRIPT = "script"
 SESSION = "session"
@@ -78,22 +80,20 @@ class Preview:
         self,
         seed: Optional[int] = None,
         idle: bool = True,
-        filename: str = "session.face",
         recordings: Optional[Recordings] = None,
     ) -> None:
         """`recordings`: where `say file` reads, for the script and the presses alike (default: nowhere)."""
         self.recordings = recordings or Recordings(None)
-        self.presses = Presses(seed, filename, self.recordings)
-        self.seed = self.presses.seed
+        self.seed = random.randrange(2**31) if seed is None else seed
         self.idle = idle
         self.transport = Transport()
         self.mode = SCRIPT
+        self._live = (0.0, 0.0)  # live: the position, and the clock then
         self.script = parse("", "<script>")
         self.animation = Animation(compile_script(self.script, self.seed), idle, self.seed)
-        self.events: List[Posted] = []  # fired by hand at the script (studio/reacting.py)
+        self.inputs: List[Input] = []  # events fired and commands pressed, in the run's order
         self.counts: Dict[str, int] = {"runs": 0, "dropped": 0, "queued": 0}  # what its handlers did
         self.run: Any = None  # the script's run over them, kept to be continued (studio/event_run.py)
-        self._presses_animation = Animation(self.presses.timeline, idle, self.seed)
 
     # -- the script
 
@@ -104,9 +104,9 @@ class Preview:
 
     def prepare(self, script: Script) -> Tuple[Animation, Dict[str, int], Any]:
         """The slow half of `load`, which changes nothing: compiled, speech synthesised, recordings
-        read; a script that reacts, run over the events fired so far. The studio does it before
+        read; run over the events fired and the commands pressed so far. The studio does it before
         taking the lock the frames wait on."""
-        return reacting.animation(self, script, list(self.events))
+        return reacting.animation(self, script, list(self.inputs))
 
     def show(
         self, script: Script, animation: Animation, counts: Optional[Dict[str, int]] = None, run: Any = None
@@ -117,21 +117,33 @@ class Preview:
         if counts is not None:
             self.counts = counts
 
-    def fired(self, t: float, now: float) -> None:
-        """An event was fired at `t`: the script plays on from there, with it."""
-        self.mode = SCRIPT
+    def took(self, t: float, now: float, live: bool) -> None:
+        """The run took an input at `t`: it plays on from there, live after a command (and while
+        live), else on the transport."""
+        if live or self.mode == SESSION:
+            self.transport.pause(now, self.duration)  # live: the transport waits where it was
+            self.mode, self._live = SESSION, (t, now)
+            return
         self.transport.seek(t, now, self.duration)
         self.transport.play(now, self.duration)
+
+    def _off_live(self, now: float) -> None:
+        """Back on the transport, where the live position has got to."""
+        if self.mode == SESSION:
+            t = self.position(now)
+            self.mode = SCRIPT
+            self.transport.seek(t, now, self.duration)
 
     @property
     def duration(self) -> float:
         return self.animation.duration
 
     def play(self, now: float) -> None:
-        self.mode = SCRIPT
+        self._off_live(now)
         self.transport.play(now, self.duration)
 
     def pause(self, now: float) -> None:
+        self._off_live(now)
         self.transport.pause(now, self.duration)
 
     def seek(self, t: float, now: float) -> None:
@@ -141,81 +153,39 @@ class Preview:
     def set_loop(self, on: bool, now: float) -> None:
         self.transport.set_loop(on, now, self.duration)
 
-    # -- the session
-
-    def press(self, text: str, now: float) -> float:
-        """Play `text` now, in the session; its time there. ScriptError when it is bad."""
-        return self.take_press(self.prepare_press(text, now), now)
-
-    def prepare_press(self, text: str, now: float) -> Tuple[Pending, Animation]:
-        """The slow half of a press, which changes nothing (see `Session.prepare`)."""
-        pending = self.presses.prepare(text, now)
-        return pending, Animation(pending.part.timeline, self.idle, self.seed)
-
-    def take_press(self, prepared: Tuple[Pending, Animation], now: float) -> float:
-        """The quick half: the prepared press shown from now. Stale if the session moved on."""
-        pending, animation = prepared
-        at = self.presses.take(pending)
-        self._presses_animation = animation
-        if self.mode == SCRIPT:
-            self.transport.pause(now, self.duration)
-        self.mode = SESSION
-        return at
-
-    def clear_session(self) -> None:
-        self.presses.clear()
-        self._presses_animation = Animation(self.presses.timeline, self.idle, self.seed)
-
     # -- what is shown
 
     def position(self, now: float) -> float:
         if self.mode == SESSION:
-            return self.presses.position(now)
+            return self._live[0] + (now - self._live[1])
         self.transport.settle(now, self.duration)
         return self.transport.position(now, self.duration)
 
-    def _shown(self) -> Tuple[Animation, float]:
-        """What is shown, and where its time 0 is on the position's: the session plays in parts."""
-        if self.mode == SESSION:
-            return self._presses_animation, self.presses.part.offset
-        return self.animation, 0.0
-
     def at(self, now: float) -> Tuple[float, FaceState, RobotStatus]:
-        """The position, the face, and the robot's status at `now` (its times the position's)."""
-        animation, offset = self._shown()
+        """The position, the face, and the robot's status at `now`."""
         t = self.position(now)
-        if self.mode == SESSION:
-            part = self.presses.part
-            robot = animation.timeline.status(t - offset, part.robot)
-            # The part's own times, moved onto the session's.
-            robot = robot._replace(
-                nodding_until=robot.nodding_until + offset, saying_until=robot.saying_until + offset
-            )
-            return t, animation.sample(t - offset), robot
-        return t, animation.sample(t), animation.timeline.status(t)
+        return t, self.animation.sample(t), self.animation.timeline.status(t)
 
     def sounds(self, now: float) -> List[Dict[str, object]]:
         """What is heard now, to be played by the page from `at` (empty while paused)."""
         t = self.position(now)
         if self.mode == SCRIPT and not self.transport.playing:
             return []
-        animation, offset = self._shown()
-        heard: List[Said] = animation.timeline.sounding(t - offset)
-        return [{"key": sound_key(said.utterance), "at": round(said.at + offset, 3)} for said in heard]
+        heard: List[Said] = self.animation.timeline.sounding(t)
+        return [{"key": sound_key(said.utterance), "at": round(said.at, 3)} for said in heard]
 
     def utterance(self, key: str) -> Optional[Utterance]:
-        """The utterance of the script or the session whose sound is called `key`."""
-        for animation in (self.animation, self._presses_animation):
-            for said in animation.timeline.speech:
-                if sound_key(said.utterance) == key:
-                    return said.utterance
+        """The utterance the session says whose sound is called `key`."""
+        for said in self.animation.timeline.speech:
+            if sound_key(said.utterance) == key:
+                return said.utterance
         return None
 
     def _length(self, t: float) -> float:
-        """How long what is shown is: the script's length, or the session's so far (it goes on
-        with the clock past its last press's end)."""
+        """How long what is shown is: the run's length, and live, the time so far (it goes on with
+        the clock past its end)."""
         if self.mode == SESSION:
-            return max(self.presses.duration, t)
+            return max(self.duration, t)
         return self.duration
 
     def status(self, now: float) -> dict:

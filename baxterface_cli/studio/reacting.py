@@ -1,35 +1,32 @@
-"""The studio's events: fired by hand (the events bar, `POST /api/event`, a tap on the preview)
-at the script the editor plays, which reacts to them as `render --events` would; and presses in
-the panel that react, taken as the face node takes them.
+"""What comes to the studio's one live session (event_run.py): events fired by hand (the events
+bar, `POST /api/event`, a tap on the preview) and presses in the panel, each at the preview's
+position, on the run of the editor's script, as the face node takes events and commands.
 
-A script that reacts (a handler, a wait, a signal, `forever`, `one of`) is previewed as a live
-session run over the events fired so far, each at the transport's position when it was fired.
-The run is kept (event_run.py): an event fired continues it from the last one, so the 2,000th
-costs what the first did. A run that would never rest by itself (a `forever`, an `idle` timer)
-is shown for `WINDOW` seconds past its last event. The events belong to the session: cleared with
-it, and exported beside it as the script plus its events file, which `play`, `render` and
-`explain` take with `--events`.
+A script (reacting or not) is previewed as a live session run over what came to it so far. The
+run is kept (event_run.py): an input continues it from the last one, so the 10,000th costs what
+the first did. A run that would never rest by itself (a `forever`, an `idle` timer) is shown for
+`WINDOW` seconds past its last input. What came belongs to the session: cleared with it, and
+exported with it as a log that `render` and `explain` replay (studio_log.py).
 
-A press in the panel that reacts: `signal NAME` is fired as the events bar fires it; a handler
-(`on ... { }`) installs itself in the script the preview runs, after the editor's text (one for
-an event already handled replaces it, and says so, as the node logs it), and is exported with
-it, so the export plays what the preview played. Other statements that react (`wait until`,
-`forever`, `one of`) would take over the run at a moment, which no script plus events file can
-replay: they are refused, with the reason.
+A press in the panel is taken as the node takes a command: `signal NAME` is fired as the events
+bar fires it; a handler (`on ... { }`) installs itself in the script the preview runs, after the
+editor's text (one for an event already handled replaces it, and says so, as the node logs it);
+anything else is a command, a new main script that takes over at the preview's position from
+the face as it is there (`Command`), whatever it says: moves, `wait until`, `forever`, `one of`.
+A handler beside other statements is refused: the run is made again from the start at an edit,
+and keeps handlers only as part of the script.
 """
 
 from __future__ import annotations
 
-import bisect
 import threading
 from pathlib import Path
-from typing import Any, Dict, List, NamedTuple, Optional, Tuple
+from typing import Any, Callable, Dict, List, NamedTuple, Optional, Tuple
 
 from ..core.face_constants import LIMITS
 from ..core.partial_files import write_atomic
 from ..engine.animation import Animation
 from ..engine.session_handlers import ons_of
-from ..engine.session_program import first_reacting
 from ..language import syntax_tree as n
 from ..language.diagnostics import Diagnostic, ScriptError
 from ..language.event_trace import Posted
@@ -37,18 +34,19 @@ from ..language.events import in_words
 from ..language.parser import parse
 from ..language.script_length import in_words as time_in_words
 from ..language.statements import describe
-from .event_run import WINDOW, EventRun
+from ..speech.recordings import RecordingError
+from .event_run import WINDOW, Command, EventRun, Input
 
 __all__ = ["WINDOW", "MOST_EVENTS", "Reacting", "TooManyEvents", "listens"]
 
-# Events a session holds. Not for time (an event fired at the end costs the same at any count):
-# for memory, which the run kept for the preview takes: about 16 KB an event (docs/studio.md).
+# Events and presses a session holds. Not for time (one at the end costs the same at any count):
+# for memory, which the run kept for the preview takes: about 16 KB an input (docs/studio.md).
 MOST_EVENTS = 10_000
 PRESSED = "# pressed in the studio's panel"  # the line between the editor's text and the handlers
 
 
 class TooManyEvents(Exception):
-    """The session holds as many events as it takes, or the event falls past a run's limit."""
+    """The session holds as many inputs as it takes, or the input falls past a run's limit."""
 
 
 class Pressed(NamedTuple):
@@ -69,16 +67,16 @@ def listens(script: n.Script) -> List[str]:
 
 
 def animation(
-    preview: Any, script: n.Script, events: List[Posted]
+    preview: Any, script: n.Script, inputs: List[Input]
 ) -> Tuple[Animation, Dict[str, Any], Optional[EventRun]]:
     """`script` played as the `preview` (preview.py's, which imports this) plays it: the live
-    session's run over `events`, as `render --events` makes it, kept to be continued. And what its
-    handlers did: runs, dropped and queued in all."""
+    session's run over `inputs`, as `render` makes it of the session's log, kept to be continued.
+    And what its handlers did: runs, dropped and queued in all."""
     kept: Optional[EventRun] = preview.run  # the run shown: an edit goes on from where it reaches it
-    if kept is not None and list(kept.events) == events and kept.seed == preview.seed:
+    if kept is not None and list(kept.inputs) == inputs and kept.seed == preview.seed:
         run = kept.edited(script)
     else:
-        run = EventRun.start(script, preview.seed, preview.recordings, tuple(events))
+        run = EventRun.start(script, preview.seed, preview.recordings, tuple(inputs))
     return Animation(run.timeline, preview.idle, preview.seed), run.counts, run  # type: ignore[arg-type]
 
 
@@ -103,16 +101,18 @@ def events_text(events: List[Posted]) -> str:
 
 
 class Reacting:
-    """The workspace's half that takes events (a mixin: `self.preview`, `self.lock`, `self.clock`)."""
+    """The workspace's half that takes events and presses (a mixin: `self.preview`, `self.lock`,
+    `self.clock`)."""
 
     preview: Any  # preview.py's Preview
     lock: Any
     clock: Any
     name: str
     record: Any  # studio_log.py's StudioRecord
+    robot: Any  # robot_switch.py's RobotSwitch
 
     def _start_reacting(self) -> None:
-        # A fired event and an edit each change the run: one at a time, so neither loses the other.
+        # A fired event, a press and an edit each change the run: one at a time, so none loses another.
         self.firing = threading.Lock()
         self.pressed: List[Pressed] = []
         self.editor: Optional[n.Script] = None  # the editor's script the preview plays, without them
@@ -121,75 +121,88 @@ class Reacting:
         """Fire `event` (from `source`, for the session's log) at the preview's position: what the
         script's handlers did with it.
         TooManyEvents past `MOST_EVENTS`; ScriptError (or MissingTool) for a handler that cannot play."""
+        at, inputs, moved = self._take(lambda at: Posted(at, event, 0), source)
+        return {"event": in_words(event), "at": at, "events": inputs, **moved}
+
+    def _command(self, script: n.Script) -> float:
+        """A command pressed: it takes over the session at the preview's position, as a command sent
+        to the face node takes over from the face as it is; its time on the run. ScriptError (or
+        MissingTool) if it cannot play."""
+        at, _, _ = self._take(lambda at: Command(at, script), "panel")
+        return at
+
+    def _take(self, made: Callable[[float], Input], source: str) -> Tuple[float, int, Dict[str, int]]:
+        """The input `made` at the preview's position, taken by the session's run, which the preview
+        plays on from there: its time, the inputs the session holds, and what the handlers did."""
         with self.firing:
             with self.lock:
                 preview = self.preview
-                if len(preview.events) >= MOST_EVENTS:
+                if len(preview.inputs) >= MOST_EVENTS:
                     raise TooManyEvents(
-                        f"the session holds {MOST_EVENTS} events, the most it takes; export it and clear it"
+                        f"the session holds {MOST_EVENTS} events and presses, the most it takes; export "
+                        "it and clear it"
                     )
                 now = self.clock()
-                t = preview.transport.position(now, preview.duration)
+                t = preview.position(now)
                 script, before, run = preview.script, preview.counts, preview.run
             at = round(t, 3)
             if at > LIMITS.max_seconds:  # as an events file's, and render's run, end there
                 raise TooManyEvents(
                     f"{at:g} s is past {time_in_words(LIMITS.max_seconds)}, the longest a run is"
                 )
-            posted = Posted(at, event, 0)
-            if run is None:  # a script that reacts to nothing: kept for the export, nothing runs
-                events = list(preview.events)
-                events.insert(bisect.bisect_right([e.at for e in events], at), posted)
-                shown, counts = preview.animation, before
+            item = made(at)
+            if run is None:  # the editor's script never played: the session starts with the empty one
+                run = EventRun.start(script, preview.seed, preview.recordings, (*preview.inputs, item))
             else:
-                run = run.with_event(posted)
-                events = list(run.events)
-                shown, counts = Animation(run.timeline, preview.idle, preview.seed), run.counts
+                run = run.with_input(item)
+            shown, counts = Animation(run.timeline, preview.idle, preview.seed), run.counts
             with self.lock:
-                preview.events = events
+                preview.inputs = list(run.inputs)
                 preview.show(script, shown, counts, run)
-                preview.fired(t, self.clock())
-                self.record.fired(now, posted, source, shown, run)
-        moved = {k: counts[k] - before[k] for k in counts}
-        return {"event": in_words(event), "at": at, "events": len(events), **moved}
+                preview.took(t, self.clock(), live=isinstance(item, Command))
+                self.record.took(now, item, source, shown, run)
+        moved = {k: counts[k] - before.get(k, 0) for k in counts}
+        return at, len(run.inputs), moved
 
     def press(self, text: str) -> Dict[str, Any]:
-        """A press in the panel: played in the session (`at`, its time there), or, when it reacts,
-        taken by the script's run (see `react`); sent to the robot when that is on, as the node
-        takes either. ScriptError if it is bad."""
-        script = parse(text, "<command>")
-        if first_reacting(script) is None:
-            return {"at": self.command(text)}  # type: ignore[attr-defined]
-        answer = self.react(script)
-        self.robot.send(text)  # type: ignore[attr-defined]
-        return answer
-
-    def react(self, script: n.Script) -> Dict[str, Any]:
-        """A press in the panel that reacts (see the module's docstring): what it did."""
+        """A press in the panel, as the face node takes a command (see the module's docstring); sent
+        to the robot when that is on. ScriptError if it is bad."""
+        script = parse(text, "panel")
         body = [s for s in script.body if not isinstance(s, n.Define)]
         if body and all(isinstance(s, n.Signal) for s in body):
-            fired = [self.event(n.Event("signal", s.name)) for s in body]
-            return {"reacting": True, "fired": fired}
-        if body and all(isinstance(s, n.On) for s in body):
-            return self._install(script)
-        others = [s for s in body if not isinstance(s, (n.On, n.Signal))]
-        taking = [s for s in others if first_reacting(n.Script((s,), "<command>", (), "")) is not None]
-        if not body:  # definitions alone, which wait or choose: nothing calls them here
-            message = "a definition alone does nothing in the panel: press it with the handler that calls it"
-            others = list(script.body)
-        elif taking:
+            answer: Dict[str, Any] = {
+                "reacting": True,
+                "fired": [self.event(n.Event("signal", s.name), "panel") for s in body],
+            }
+        elif body and all(isinstance(s, n.On) for s in body):
+            answer = self._install(script)
+        else:
+            self._refuse(script, body)
+            try:
+                answer = {"at": self._command(script)}
+            except RecordingError as e:  # a press that says a recording it cannot
+                raise ScriptError([e.diagnostic()], script.filename, script.source) from None
+        self.robot.send(text)
+        return answer
+
+    @staticmethod
+    def _refuse(script: n.Script, body: List[Any]) -> None:
+        """ScriptError for a press the session cannot take as a command: definitions alone, or a
+        handler beside other statements (it would be installed at a moment, which the run, made
+        again from the start at each edit, does not keep)."""
+        handlers = [s for s in body if isinstance(s, n.On)]
+        if body and not handlers:
+            return
+        if not body:
+            message = "a definition alone does nothing in the panel: press it with what calls it"
+            where = script.body[0].pos
+        else:
             message = (
-                f"'{describe(taking[0])}' in the panel would take over the run at this moment, which the "
-                "export (the script and its events file) cannot replay: write it in the editor's script; "
-                "the panel takes handlers ('on ... { }') and 'signal NAME', each as a press of its own"
+                f"'{describe(handlers[0])}' beside other statements: press a handler alone (it goes into "
+                "the script's run from its start), and the rest as a press of its own"
             )
-        else:  # a plain statement beside a handler or a signal: they go to two places
-            message = (
-                f"'{describe(others[0])}' beside a handler or a signal: press them one at a time (a handler "
-                "goes into the script's run, a signal is fired at it, the rest plays in the session)"
-            )
-        where = (taking or others)[0].pos
-        raise ScriptError([Diagnostic(where.line, where.column, message)], "<command>", script.source)
+            where = handlers[0].pos
+        raise ScriptError([Diagnostic(where.line, where.column, message)], script.filename, script.source)
 
     def _install(self, script: n.Script) -> Dict[str, Any]:
         """Handlers pressed: in the script the preview runs from now on, replacing any for their events."""
@@ -218,15 +231,16 @@ class Reacting:
         return {"reacting": True, "installed": installed, "replaced": replaced}
 
     def _replay(self, script: n.Script) -> Tuple[Animation, Dict[str, Any], Optional[EventRun]]:
-        """The slow half of showing `script`, over the session's events."""
-        return animation(self.preview, script, list(self.preview.events))
+        """The slow half of showing `script`, over the session's inputs."""
+        return animation(self.preview, script, list(self.preview.inputs))
 
     def clear_events(self) -> None:
+        """The session's events, commands and pressed handlers let go: the editor's script alone."""
         with self.firing:
             with self.lock:
-                had = bool(self.preview.events) or bool(self.pressed)
+                had = bool(self.preview.inputs) or bool(self.pressed)
                 script = self.editor or self.preview.script
-                self.preview.events, self.pressed = [], []
+                self.preview.inputs, self.pressed = [], []
                 self.record.cleared(self.clock())
             if had:  # show the editor's script without them
                 prepared = self._replay(script)
@@ -236,11 +250,13 @@ class Reacting:
 
     def export_events(self, target: Path) -> Dict[str, Any]:
         """The script the events were fired at (with the handlers pressed) and the events, beside
-        `target` (the session's file); nothing when neither was."""
+        `target` (the session's file), for `play --events`; nothing when neither was, or when a
+        command was pressed, which no events file holds (the session's file replays it)."""
         with self.lock:
-            events, source, seed = list(self.preview.events), self.preview.script.source, self.preview.seed
+            inputs, source, seed = list(self.preview.inputs), self.preview.script.source, self.preview.seed
             pressed = len(self.pressed)
-        if not events and not pressed:
+        events = [e for e in inputs if isinstance(e, Posted)]
+        if (not events and not pressed) or len(events) < len(inputs):
             return {}
         script_path = target.with_name(target.stem + "-script.face")
         events_path = script_path.with_suffix(".events")

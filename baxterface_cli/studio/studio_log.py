@@ -1,24 +1,45 @@
 """The studio's session log: `studio --log FILE` (engine/session_log_file.py, as every live end).
 
-The studio's face is a run of the editor's script over the events fired at it, each at the
-preview's position (reacting.py), run again whole when the script changes; so its records say
-both clocks: `t`, the studio's, from its start, when it was done; and `at`, the run's, where it
-happened on the script the preview plays. `script`: each script the preview plays from then on
-(the editor's text with the handlers pressed in the panel; `source` the file's name, or `panel`),
-and each press played in the live session (`"press": true`); `event`: each event fired, with
-`at`; `log` and `say`: what the run did from that event to the next, with their `at`;
-`cleared`: the session's events let go (Clear). A replay of it (`render LOG.jsonl`) is the last
-script over the events fired since the last `cleared`, at their `at`: the preview's run.
+The studio's face is its one live session: a run of the editor's script over the events fired at
+it and the commands pressed in the panel, each at the preview's position (reacting.py, event_run.py),
+run again when the script changes; so its records say both clocks: `t`, the studio's, from its
+start, when it was done; and `at`, the run's, where it happened on the script the preview plays.
+`script`: each script the preview plays from then on (the editor's text with the handlers pressed
+in the panel; `source` the file's name, or `panel`), and each command pressed (`"press": true`,
+with its `at`); `event`: each event fired, with `at`; `log` and `say`: what the run did from that
+input to the next, with their `at`; `cleared`: the session's inputs let go (Clear). A replay of it
+(`render LOG.jsonl`, engine/log_replay.py) is the last script over the events and commands since the
+last `cleared`, at their `at`: the preview's run. The session's export is such a log, written whole
+(`exported`).
 """
 
 from __future__ import annotations
 
-from typing import Any, Optional
+import json
+from typing import Any, Dict, List, Optional, Sequence
 
-from ..engine.session_log_file import SessionLogFile
+from ..engine.session_log_file import VERSION, SessionLogFile
 from ..language import syntax_tree as n
-from ..language.event_trace import Posted
 from ..language.events import in_words
+from .event_run import Command, Input
+
+
+def _input_record(item: Input, source: str = "") -> Dict[str, Any]:
+    """The record of an input: an event fired, or a command pressed, at its `at` on the run."""
+    if isinstance(item, Command):
+        return {"type": "script", "text": item.script.source, "source": "panel", "press": True, "at": item.at}
+    return {"type": "event", "event": in_words(item.event), "source": source, "at": item.at}
+
+
+def exported(script: n.Script, name: str, inputs: Sequence[Input], seed: Optional[int]) -> str:
+    """The session as a log `render` and `explain` replay: `script` (as `name`) over `inputs`.
+    Each record's `t` is its `at`: an export is not a record of when things were done."""
+    records: List[Dict[str, Any]] = [
+        {"type": "start", "t": 0, "version": VERSION, "settings": {"end": "studio", "seed": seed}},
+        {"type": "script", "t": 0, "text": script.source, "source": name},
+    ]
+    records += [{**_input_record(item, "POST /api/event"), "t": item.at} for item in inputs]
+    return "".join(json.dumps(record) + "\n" for record in records)
 
 
 class StudioRecord:
@@ -35,24 +56,19 @@ class StudioRecord:
             return
         self._played = script.source
         self.file.script(now, script.source, source)
-        first = run.events[0].at if run is not None and run.events else float("inf")
+        first = run.inputs[0].at if run is not None and run.inputs else float("inf")
         self._did(now, run.log if run is not None else (), animation.timeline.speech, 0.0, first)
 
-    def press(self, now: float, text: str) -> None:
-        if self.file is not None:
-            self.file.note(now, {"type": "script", "text": text, "source": "panel", "press": True})
-
-    def fired(self, now: float, posted: Posted, source: str, animation: Any, run: Any) -> None:
-        """`posted` fired at the run `run` (an EventRun; None for a script that reacts to
-        nothing), shown as `animation`: the event, and what the run did from it to the next."""
+    def took(self, now: float, item: Input, source: str, animation: Any, run: Any) -> None:
+        """`item` (an event fired, a command pressed) taken by the run `run` (an EventRun; None for
+        an event at a script not running yet), shown as `animation`: the input, and what the run did
+        from it to the next."""
         if self.file is None:
             return
-        self.file.note(
-            now, {"type": "event", "event": in_words(posted.event), "source": source, "at": posted.at}
-        )
+        self.file.note(now, _input_record(item, source))
         if run is not None:
-            later = [e.at for e in run.events if e.at > posted.at]
-            self._did(now, run.log, animation.timeline.speech, posted.at, later[0] if later else float("inf"))
+            later = [e.at for e in run.inputs if e.at > item.at]
+            self._did(now, run.log, animation.timeline.speech, item.at, later[0] if later else float("inf"))
 
     def _did(self, now: float, log: Any, speech: Any, since: float, until: float) -> None:
         """The run's log lines and what it says from `since` to before `until`, at their `at`."""

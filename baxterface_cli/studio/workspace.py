@@ -2,11 +2,11 @@
 
 The page edits the script; the workspace checks it (with `check`'s very
 diagnostics), plays its last good version in the preview, saves it
-atomically, notices when it changes on disk, plays presses in the session,
-sends them to the robot when that is switched on, and writes the session out
-beside the script. The only files it reads or writes are the script, the
-panel the user named, and session files in the script's folder: no request
-names a path.
+atomically, notices when it changes on disk, plays events and presses in its
+one live session (reacting.py), sends presses to the robot when that is
+switched on, and writes the session out beside the script. The only files it
+reads or writes are the script, the panel the user named, and session files in
+the script's folder: no request names a path.
 """
 
 from __future__ import annotations
@@ -32,17 +32,18 @@ from ..speech.recordings import NO_POCKETSPHINX, RecordingError, Recordings
 from ..web.answers import diagnostics_json, problem
 from ..web.sounds import sound_key, wav_file
 from .chained import Chained
+from .event_run import Command
 from .lanes import lanes
 from .page_tables import feelings, vocabulary
 from .panel import Button, PanelError, load_panel
-from .presses import Stale
 from .preview import Preview
 from .reacting import Reacting, listens, with_pressed
 from .robot_switch import RobotSwitch
-from .studio_log import StudioRecord
+from .studio_log import StudioRecord, exported
 
 MAX_SESSION_FILES = 100  # session files one run writes; each session has one, replaced by its exports
 SHOWN_SPANS = 400  # spans of a long run the page lists, around the preview's position
+SHOWN_PRESSES = 200  # the latest presses a press's answer lists (the export has them all)
 
 
 def _write_keeping_mode(path: Path, data: bytes) -> None:
@@ -130,7 +131,7 @@ class Workspace(Reacting):
         # The page's text and presses come over the network: `say file` reads only under the
         # script's own folder.
         self.recordings = Recordings(self.folder, confined=True)
-        self.preview = Preview(seed, idle, filename="session.face", recordings=self.recordings)
+        self.preview = Preview(seed, idle, recordings=self.recordings)
         self.robot = RobotSwitch(topic)
         self.buttons: List[Button] = load_panel(panel)
         self.preview_note = ""
@@ -232,7 +233,8 @@ class Workspace(Reacting):
         with self.lock:
             t, preview = self.preview.position(self.clock()), self.preview
             shown = {**timeline_json(preview.animation.timeline, t), "lanes": lanes(preview, t)}
-            return {**shown, "listens": listens(preview.script), "fired": len(preview.events)}
+            fired = sum(1 for i in preview.inputs if not isinstance(i, Command))
+            return {**shown, "listens": listens(preview.script), "fired": fired}
 
     def save(self, text: Union[str, bytes], base: Optional[int] = None) -> Dict[str, Any]:
         """Write `text` as the script; SaveConflict if the file changed since version `base`.
@@ -355,41 +357,29 @@ class Workspace(Reacting):
 
     # -- the session
 
-    def command(self, text: str) -> float:
-        """Play `text` now on the preview and, when switched on, on the robot; ScriptError if bad."""
-        now = self.clock()
-        while True:
-            # Compiled without the lock, which the frame pump needs many times a second: a long
-            # session takes a while to compile again, and the preview must not stop meanwhile.
-            prepared = self.preview.prepare_press(text, now)
-            with self.lock:
-                try:
-                    at = self.preview.take_press(prepared, now)
-                    break
-                except Stale:  # another press or a clear came first: prepare it again
-                    continue
-        self.record.press(now, text)
-        self.robot.send(text)
-        return at
-
     def session(self, whole: bool = False) -> Dict[str, Any]:
-        """The session's latest presses (`whole`: all, and its text)."""
+        """The commands pressed in the session, the latest `SHOWN_PRESSES` (`whole`: all), their
+        count and the seed: a press is answered with the latest only, so that it costs the same
+        however long the session has grown."""
         with self.lock:
-            return self.preview.presses.as_json(whole)
+            inputs, seed = self.preview.inputs, self.preview.seed
+        pressed = [i for i in inputs if isinstance(i, Command)]
+        shown = pressed if whole else pressed[-SHOWN_PRESSES:]
+        presses = [{"at": p.at, "command": p.script.source.strip()} for p in shown]
+        return {"presses": presses, "count": len(pressed), "seed": seed}
 
     def clear_session(self) -> Dict[str, Any]:
         with self.lock:
-            self.preview.clear_session()
             self._sessions += 1
         self.clear_events()
         return self.session()
 
     def export_session(self) -> Dict[str, Any]:
-        """Write the session beside the script: one file a session, named after its first press's
-        time, which each later export of the same session replaces. A new file for each export
-        filled the folder (2,000 in 5 s); past `MAX_SESSION_FILES` sessions in one run, refused."""
+        """Write the session beside the script, as a log `render` and `explain` replay: one file a
+        session, named after the time of its first export, which each later export of the same
+        session replaces. A new file for each export filled the folder (2,000 in 5 s); past
+        `MAX_SESSION_FILES` sessions in one run, refused."""
         with self.lock:
-            session = self.preview.presses
             key = self._sessions
             target = self._exported.get(key)
             if target is None:
@@ -399,14 +389,15 @@ class Workspace(Reacting):
                         "it writes; each session's later exports replace its own file"
                     )
                 stamp = time.strftime("%Y%m%d-%H%M%S")
-                target = self.folder / f"session-{stamp}.face"
+                target = self.folder / f"session-{stamp}.jsonl"
                 number = 1
                 while target.exists() or target in self._exported.values():
                     number += 1
-                    target = self.folder / f"session-{stamp}-{number}.face"
+                    target = self.folder / f"session-{stamp}-{number}.jsonl"
                 self._exported[key] = target
-            text = session.text_of(session.presses, target.name)
-        write_atomic(target, text.encode("utf-8"))
+            preview = self.preview
+            text = exported(preview.script, self.name, list(preview.inputs), preview.seed)
+        write_atomic(target, text.encode("utf-8", "surrogatepass"))
         return {"path": target.name, "text": text, **self.export_events(target)}
 
     def state(self) -> Dict[str, Any]:

@@ -1,6 +1,7 @@
-"""An edit of the script in the studio, over a long run of events: it goes on from the last event
-before the first one the edit reaches, and what it shows is what running the edited script again
-over all the events shows (the reference: `EventRun.start`, the run from the start)."""
+"""An edit of the script in the studio, over a long run of events (and commands pressed): it goes
+on from the last input before the first one the edit reaches, and what it shows is what running
+the edited script again over all the inputs shows (the reference: `EventRun.start`, the run from
+the start)."""
 
 from __future__ import annotations
 
@@ -9,7 +10,7 @@ import pytest
 from baxterface_cli.language.event_line import read_event_line
 from baxterface_cli.language.event_trace import Posted
 from baxterface_cli.language.parser import parse
-from baxterface_cli.studio.event_run import EventRun
+from baxterface_cli.studio.event_run import Command, EventRun
 from baxterface_cli.studio.workspace import Workspace
 
 SCRIPT = (
@@ -52,7 +53,7 @@ def test_an_edit_shows_what_the_edited_script_run_again_over_every_event_shows(n
     run = EventRun.start(before, 7, None, events())
     edited = run.edited(after)
     again = EventRun.start(after, 7, None, events())
-    assert edited.events == again.events and edited.counts == again.counts
+    assert edited.inputs == again.inputs and edited.counts == again.counts
     assert edited.timeline.duration == again.timeline.duration
     steps = int(edited.timeline.duration * 20)
     assert all(edited.timeline.sample(i / 20) == again.timeline.sample(i / 20) for i in range(steps + 1))
@@ -63,9 +64,29 @@ def test_an_edit_shows_what_the_edited_script_run_again_over_every_event_shows(n
     # And it goes on as the run from the start does: the next event, fired back among the others too.
     for at in (0.7 * POKES + 1.0, 100.05):
         late = Posted(at, read_event_line("signal late"), 0)
-        edited, again = edited.with_event(late), again.with_event(late)
+        edited, again = edited.with_input(late), again.with_input(late)
         assert edited.counts == again.counts
         assert all(edited.timeline.sample(t) == again.timeline.sample(t) for t in (at, at + 0.3, at + 1.0))
+
+
+@pytest.mark.parametrize(
+    "pressed, goes_on",
+    [("look right in 0.3s\nhappy", True), ("angry\nsignal late", False)],  # the second raises late
+)
+def test_an_edit_over_commands_pressed_goes_on_as_the_script_run_again_shows(pressed, goes_on):
+    """Commands pressed in the panel are the session's inputs as events are: an edit of a handler
+    goes on from a checkpoint past them, unless one of them raises the edited handler's signal."""
+    command = Command(50.05, parse(pressed, "panel"))
+    inputs = tuple(sorted([*events(), command, command._replace(at=150.05)], key=lambda i: i.at))
+    before = parse(SCRIPT, "edited.face")
+    after = parse(EDITS["the late handler"][0], "edited.face")
+    run = EventRun.start(before, 7, None, inputs)
+    edited, again = run.edited(after), EventRun.start(after, 7, None, inputs)
+    assert edited.counts == again.counts and edited.timeline.duration == again.timeline.duration
+    steps = int(edited.timeline.duration * 20)
+    assert all(edited.timeline.sample(i / 20) == again.timeline.sample(i / 20) for i in range(steps + 1))
+    reused = sum(1 for (_, a), (_, b) in zip(edited.played, run.played) if a is b)
+    assert (reused > 100) == goes_on, reused
 
 
 def test_the_studio_goes_on_with_an_edit_as_the_script_run_again_shows_it(tmp_path):
@@ -74,7 +95,7 @@ def test_the_studio_goes_on_with_an_edit_as_the_script_run_again_shows_it(tmp_pa
     workspace = Workspace(path, seed=7, idle=False, clock=lambda: 0.0)
     workspace.update(SCRIPT)
     kept = events()
-    workspace.preview.events = list(kept)
+    workspace.preview.inputs = list(kept)
     workspace.update(SCRIPT + " ")  # the run over the events, as the studio keeps it
     shown_before = workspace.preview.run
     edit = EDITS["the late handler"][0]

@@ -7,6 +7,7 @@ from __future__ import annotations
 import re
 import subprocess
 
+from baxterface_cli.engine.log_replay import read_log, run_log
 from baxterface_cli.engine.session_run import run_over
 from baxterface_cli.language.event_line import read_event_line
 from baxterface_cli.language.event_trace import parse_trace
@@ -86,9 +87,24 @@ def test_events_fired_at_a_real_studio_play_and_export_with_the_script(tmp_path)
     assert "'on signal poke' runs" in done.stdout and "'on touch left eye' runs" in done.stdout
 
 
-def test_a_press_that_would_take_over_the_run_is_refused_and_says_where_it_runs(tmp_path):
-    script = tmp_path / "show.face"
-    script.write_text("happy\n")
-    with running_studio(script) as studio:
-        status, answer = studio.json("POST", "/api/command", "one of {\n  happy\n  |\n  sad\n}")
-        assert status == 400 and "editor's script" in answer["diagnostics"][0]["message"], answer
+def test_a_press_that_reacts_takes_over_the_one_session_and_the_export_replays_it(tmp_path):
+    path = tmp_path / "greeter.face"
+    path.write_text(GREETER)
+    clock = Clock()
+    workspace = Workspace(path, seed=7, idle=False, clock=clock)
+    workspace.transport("seek", 0.5)
+    assert workspace.press("wait until signal go\none of {\n  angry\n  |\n  happy\n}") == {"at": 0.5}
+    clock.now += 1.0
+    assert workspace.face(clock.now).emotion != "angry"  # it waits, as a command on the node would
+    answer = workspace.event(read_event_line("signal go"))  # the event ends the pressed command's wait
+    assert answer["at"] == 1.5 and workspace.timeline()["fired"] == 1
+    clock.now += 1.0
+    assert workspace.face(clock.now).emotion in ("angry", "happy")
+    exported = workspace.export_session()
+    assert "script_path" not in exported  # no events file holds a command: the session's log does
+    replay = read_log(str(tmp_path / exported["path"]))
+    run = run_log(replay, replay.seed).timeline
+    shown = workspace.preview.animation.timeline
+    assert run.duration == shown.duration
+    frames = [i / 30 for i in range(int(shown.duration * 30) + 1)]
+    assert [run.sample(t) for t in frames] == [shown.sample(t) for t in frames]
