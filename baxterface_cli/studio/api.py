@@ -89,8 +89,10 @@ class StudioApi(FaceApi):
 
     def told(self, answer: Dict[str, Any]) -> None:
         self.pages.send({"kind": "session", "session": answer["session"]})
-        # The run changed: its events bar and timeline with it.
-        self.pages.send({"kind": "timeline", "timeline": self.workspace.timeline()})
+        if answer.get("reacting"):  # the events bar and the timeline changed with the run
+            self.pages.send({"kind": "timeline", "timeline": self.workspace.timeline()})
+        # A command leaves the preview live, where the page hides the timeline: it is sent as the
+        # preview goes back to the transport (`transport`), not at each press of a flood.
 
     def _disk_changes(self) -> List[Dict[str, Any]]:
         """What changed on disk, with the new timeline after the script itself changed."""
@@ -148,7 +150,10 @@ class StudioApi(FaceApi):
             raise BadRequest(f"'seek' needs 't', the script time in seconds, not {json.dumps(body.get('t'))}")
         if action == "loop" and not isinstance(on, bool):
             raise BadRequest(f"'loop' needs 'on', true or false, not {json.dumps(on)}")
+        was = self.workspace.preview.mode
         status = self.workspace.transport(action, float(body.get("t") or 0.0), on)
+        if was != status["mode"]:  # back from live: the run the presses made, on the transport
+            self.pages.send({"kind": "timeline", "timeline": self.workspace.timeline()})
         self.pump.wake()
         return JSONResponse(status)
 

@@ -155,7 +155,7 @@ class Chained:
         return spans[start : start + most], before + start, speech
 
 
-def chained(finished: Chapters, segments: Segments, duration: float) -> Chained:
-    """The run of `segments` (all of them, from the first) until `duration`, its first chapters
-    those `finished` already joined."""
-    return Chained(finished, Stitched(list(segments[finished.covered :]), duration))
+def chained(finished: Chapters, rest: Segments, duration: float) -> Chained:
+    """The run until `duration`: the chapters `finished` joined, then `rest`, the timelines played
+    after them."""
+    return Chained(finished, Stitched(list(rest), duration))

@@ -76,16 +76,20 @@ class EventRun:
         played: Segments,
         checkpoints: Tuple[Checkpoint, ...],
         chapters: Chapters,
-        lines: Tuple[Logged, ...] = (),
+        lines: List[Logged],
         shown: bool = True,
         handed: int = 0,
     ) -> None:
         """`shown`: the run on to its end made now, for the preview (not for a run about to go on);
-        `handed`: the inputs handed to the session to make it from its checkpoint (what it cost)."""
+        `handed`: the inputs handed to the session to make it from its checkpoint (what it cost).
+        `played` and `lines` may be shared with the run this one goes on from (`_continued`): a
+        run reads only as many of them as it had when it was made."""
         self.script, self.seed, self.recordings = script, seed, recordings
         self.inputs = inputs
         self.played = played  # the timelines played up to the last input, with their starts
         self.lines = lines  # the session's log up to the last input (a copy's log starts empty)
+        self._had = (len(played), len(lines))
+        self._tail_log: Tuple[Logged, ...] = ()
         self.checkpoints = checkpoints
         self.chapters = chapters
         self.handed = handed
@@ -107,15 +111,17 @@ class EventRun:
             script, seed=seed, idle=False, recordings=recordings, record=True, log_lines=None
         )
         played, session.segments = list(session.segments or ()), []
-        lines = tuple(session.log)
+        lines = list(session.log)
         first = (Checkpoint(0, session, len(played), len(lines), script),)
         run = cls(script, seed, recordings, (), played, first, Chapters(), lines, shown=not inputs)
         return run._continued(run.checkpoints[0], list(inputs)) if inputs else run
 
     def with_input(self, item: Input) -> EventRun:
         """This run with `item` among its inputs, after any at the same time."""
-        at = [e.at for e in self.inputs]
-        i = bisect.bisect_right(at, item.at)
+        if not self.inputs or item.at >= self.inputs[-1].at:  # at the end, as most come: no search
+            i = len(self.inputs)
+        else:
+            i = bisect.bisect_right([e.at for e in self.inputs], item.at)
         inputs = [*self.inputs[:i], item, *self.inputs[i:]]
         since = next(c for c in reversed(self.checkpoints) if c.posted <= i)
         return self._continued(since, inputs)
@@ -129,10 +135,10 @@ class EventRun:
             return EventRun.start(script, self.seed, self.recordings, self.inputs)
         # The checkpoints kept go on with the edit's handlers when one is used (`_continued`): what
         # the edits since a checkpoint's script changed, no event before it reached.
+        played, lines = list(self.played[: self._had[0]]), list(self.lines[: self._had[1]])
         run = EventRun(
-            script, self.seed, self.recordings, self.inputs, self.played, kept, self.chapters, self.lines,
-            shown=False,
-        )  # fmt: skip
+            script, self.seed, self.recordings, self.inputs, played, kept, self.chapters, lines, shown=False
+        )
         return run._continued(kept[-1], list(self.inputs))
 
     def _continued(self, since: Checkpoint, inputs: List[Input]) -> EventRun:
@@ -141,30 +147,43 @@ class EventRun:
         if since.script is not self.script:  # kept through an edit: with the edit's handlers now
             since = since._replace(session=rebase(since.session, self.script), script=self.script)
         session = fork(since.session)
-        played = list(self.played[: since.segments])
-        lines = list(self.lines[: since.lines])
+        # Gone on from its end (the usual: an input at the end), this run's lists are the new one's,
+        # grown in place, so that an input does not copy the whole run's; a failure takes back what
+        # it added. From further back, the new run's own copies.
+        shared = (since.segments, since.lines) == self._had == (len(self.played), len(self.lines))
+        played = self.played if shared else list(self.played[: since.segments])
+        lines = self.lines if shared else list(self.lines[: since.lines])
         checkpoints = [c for c in self.checkpoints if c.posted < since.posted] + [since]
-        for k in range(since.posted, len(inputs)):
-            item = inputs[k]
-            if isinstance(item, Command):  # as `render LOG.jsonl` takes a command that takes over
-                session.run(item.script, item.at)
-            else:
-                session.post(item.event, item.at, f"events:{k + 1}")
-            played += session.segments  # type: ignore[operator]
-            session.segments = []
-            lines += session.log
-            session.log.clear()
-            if (k + 1) % EVERY == 0 or k + 1 == len(inputs):
-                checkpoints.append(Checkpoint(k + 1, session, len(played), len(lines), self.script))
-                if k + 1 < len(inputs):
-                    session = fork(session)
+        try:
+            for k in range(since.posted, len(inputs)):
+                item = inputs[k]
+                if isinstance(item, Command):  # as `render LOG.jsonl` takes a command that takes over
+                    session.run(item.script, item.at)
+                else:
+                    session.post(item.event, item.at, f"events:{k + 1}")
+                played += session.segments  # type: ignore[operator]
+                session.segments = []
+                lines += session.log
+                session.log.clear()
+                session.cues.clear()  # for a robot to take: no one does, and each copy copied them
+                if (k + 1) % EVERY == 0 or k + 1 == len(inputs):
+                    checkpoints.append(Checkpoint(k + 1, session, len(played), len(lines), self.script))
+                    if k + 1 < len(inputs):
+                        session = fork(session)
+        except BaseException:
+            del played[since.segments :], lines[since.lines :]
+            raise
         # One every EVERY inputs, and the last: the run goes on from there.
         checkpoints = [c for c in checkpoints[:-1] if c.posted % EVERY == 0] + checkpoints[-1:]
         chapters = self.chapters.upto(since.segments).grown(played)
-        return EventRun(
-            self.script, self.seed, self.recordings, tuple(inputs), played, tuple(checkpoints), chapters,
-            tuple(lines), handed=len(inputs) - since.posted,
-        )  # fmt: skip
+        try:
+            return EventRun(
+                self.script, self.seed, self.recordings, tuple(inputs), played, tuple(checkpoints),
+                chapters, lines, handed=len(inputs) - since.posted,
+            )  # fmt: skip
+        except BaseException:
+            del played[since.segments :], lines[since.lines :]
+            raise
 
     def _shown(self) -> Tuple[Chained, Dict[str, int]]:
         """The whole run, on from the last input to its end, as `run_log` ends it; and what its
@@ -178,12 +197,20 @@ class EventRun:
         except NeverRests:
             tail, duration = fork(last.session), end_at + WINDOW
             end = settle(tail, self.script, end_at, bool(self.inputs), duration)
-        segments = [*self.played, *(tail.segments or ())] or [(0.0, tail.face.timeline)]
-        end = run_end(tail, segments, end, duration)
-        self.log = (*self.lines, *tail.log)
+        # What the finished chapters do not hold: the rest of what was played, and the tail.
+        rest = [*self.played[self.chapters.covered : self._had[0]], *(tail.segments or ())]
+        if not rest and not self.chapters.covered:  # nothing played: the face it started with
+            rest = [(0.0, tail.face.timeline)]
+        end = run_end(tail, rest, end, duration)
+        self._tail_log = tuple(tail.log)
         counts = tail.counts().values()
         totals = {key: sum(c[key] for c in counts) for key in ("runs", "dropped", "queued")}
-        return chained(self.chapters, segments, end), totals
+        return chained(self.chapters, rest, end), totals
+
+    @property
+    def log(self) -> Tuple[Logged, ...]:
+        """The session's whole log, on to the run's end (made when asked: an input never asks)."""
+        return (*self.lines[: self._had[1]], *self._tail_log)
 
 
 def unreached(old: n.Script, new: n.Script, inputs: Tuple[Input, ...]) -> int:

@@ -91,7 +91,8 @@ class Preview:
         self._live = (0.0, 0.0)  # live: the position, and the clock then
         self.script = parse("", "<script>")
         self.animation = Animation(compile_script(self.script, self.seed), idle, self.seed)
-        self.inputs: List[Input] = []  # events fired and commands pressed, in the run's order
+        self.inputs: Tuple[Input, ...] = ()  # events fired and commands pressed, in the run's order
+        self.commands = 0  # the commands among them
         self.counts: Dict[str, int] = {"runs": 0, "dropped": 0, "queued": 0}  # what its handlers did
         self.run: Any = None  # the script's run over them, kept to be continued (studio/event_run.py)
 
@@ -106,7 +107,7 @@ class Preview:
         """The slow half of `load`, which changes nothing: compiled, speech synthesised, recordings
         read; run over the events fired and the commands pressed so far. The studio does it before
         taking the lock the frames wait on."""
-        return reacting.animation(self, script, list(self.inputs))
+        return reacting.animation(self, script, self.inputs)
 
     def show(
         self, script: Script, animation: Animation, counts: Optional[Dict[str, int]] = None, run: Any = None

@@ -67,16 +67,16 @@ def listens(script: n.Script) -> List[str]:
 
 
 def animation(
-    preview: Any, script: n.Script, inputs: List[Input]
+    preview: Any, script: n.Script, inputs: Tuple[Input, ...]
 ) -> Tuple[Animation, Dict[str, Any], Optional[EventRun]]:
     """`script` played as the `preview` (preview.py's, which imports this) plays it: the live
     session's run over `inputs`, as `render` makes it of the session's log, kept to be continued.
     And what its handlers did: runs, dropped and queued in all."""
     kept: Optional[EventRun] = preview.run  # the run shown: an edit goes on from where it reaches it
-    if kept is not None and list(kept.inputs) == inputs and kept.seed == preview.seed:
+    if kept is not None and kept.inputs == inputs and kept.seed == preview.seed:
         run = kept.edited(script)
     else:
-        run = EventRun.start(script, preview.seed, preview.recordings, tuple(inputs))
+        run = EventRun.start(script, preview.seed, preview.recordings, inputs)
     return Animation(run.timeline, preview.idle, preview.seed), run.counts, run  # type: ignore[arg-type]
 
 
@@ -121,19 +121,20 @@ class Reacting:
         """Fire `event` (from `source`, for the session's log) at the preview's position: what the
         script's handlers did with it.
         TooManyEvents past `MOST_EVENTS`; ScriptError (or MissingTool) for a handler that cannot play."""
-        at, inputs, moved = self._take(lambda at: Posted(at, event, 0), source)
-        return {"event": in_words(event), "at": at, "events": inputs, **moved}
+        at, moved = self._take(lambda at: Posted(at, event, 0), source)
+        with self.lock:
+            fired = len(self.preview.inputs) - self.preview.commands
+        return {"event": in_words(event), "at": at, "events": fired, **moved}
 
     def _command(self, script: n.Script) -> float:
         """A command pressed: it takes over the session at the preview's position, as a command sent
         to the face node takes over from the face as it is; its time on the run. ScriptError (or
         MissingTool) if it cannot play."""
-        at, _, _ = self._take(lambda at: Command(at, script), "panel")
-        return at
+        return self._take(lambda at: Command(at, script), "panel")[0]
 
-    def _take(self, made: Callable[[float], Input], source: str) -> Tuple[float, int, Dict[str, int]]:
+    def _take(self, made: Callable[[float], Input], source: str) -> Tuple[float, Dict[str, int]]:
         """The input `made` at the preview's position, taken by the session's run, which the preview
-        plays on from there: its time, the inputs the session holds, and what the handlers did."""
+        plays on from there: its time, and what the handlers did."""
         with self.firing:
             with self.lock:
                 preview = self.preview
@@ -152,17 +153,17 @@ class Reacting:
                 )
             item = made(at)
             if run is None:  # the editor's script never played: the session starts with the empty one
-                run = EventRun.start(script, preview.seed, preview.recordings, (*preview.inputs, item))
+                run = EventRun.start(script, preview.seed, preview.recordings, (item,))
             else:
                 run = run.with_input(item)
             shown, counts = Animation(run.timeline, preview.idle, preview.seed), run.counts
             with self.lock:
-                preview.inputs = list(run.inputs)
+                preview.inputs = run.inputs
+                preview.commands += isinstance(item, Command)
                 preview.show(script, shown, counts, run)
                 preview.took(t, self.clock(), live=isinstance(item, Command))
                 self.record.took(now, item, source, shown, run)
-        moved = {k: counts[k] - before.get(k, 0) for k in counts}
-        return at, len(run.inputs), moved
+        return at, {k: counts[k] - before.get(k, 0) for k in counts}
 
     def press(self, text: str) -> Dict[str, Any]:
         """A press in the panel, as the face node takes a command (see the module's docstring); sent
@@ -232,7 +233,7 @@ class Reacting:
 
     def _replay(self, script: n.Script) -> Tuple[Animation, Dict[str, Any], Optional[EventRun]]:
         """The slow half of showing `script`, over the session's inputs."""
-        return animation(self.preview, script, list(self.preview.inputs))
+        return animation(self.preview, script, self.preview.inputs)
 
     def clear_events(self) -> None:
         """The session's events, commands and pressed handlers let go: the editor's script alone."""
@@ -240,7 +241,7 @@ class Reacting:
             with self.lock:
                 had = bool(self.preview.inputs) or bool(self.pressed)
                 script = self.editor or self.preview.script
-                self.preview.inputs, self.pressed = [], []
+                self.preview.inputs, self.preview.commands, self.pressed = (), 0, []
                 self.record.cleared(self.clock())
             if had:  # show the editor's script without them
                 prepared = self._replay(script)
@@ -253,11 +254,11 @@ class Reacting:
         `target` (the session's file), for `play --events`; nothing when neither was, or when a
         command was pressed, which no events file holds (the session's file replays it)."""
         with self.lock:
-            inputs, source, seed = list(self.preview.inputs), self.preview.script.source, self.preview.seed
-            pressed = len(self.pressed)
-        events = [e for e in inputs if isinstance(e, Posted)]
-        if (not events and not pressed) or len(events) < len(inputs):
+            inputs, source, seed = self.preview.inputs, self.preview.script.source, self.preview.seed
+            pressed, commands = len(self.pressed), self.preview.commands
+        if (not inputs and not pressed) or commands:
             return {}
+        events: List[Posted] = list(inputs)  # type: ignore[arg-type]
         script_path = target.with_name(target.stem + "-script.face")
         events_path = script_path.with_suffix(".events")
         header = (

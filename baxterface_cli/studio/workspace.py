@@ -233,7 +233,7 @@ class Workspace(Reacting):
         with self.lock:
             t, preview = self.preview.position(self.clock()), self.preview
             shown = {**timeline_json(preview.animation.timeline, t), "lanes": lanes(preview, t)}
-            fired = sum(1 for i in preview.inputs if not isinstance(i, Command))
+            fired = len(preview.inputs) - preview.commands
             return {**shown, "listens": listens(preview.script), "fired": fired}
 
     def save(self, text: Union[str, bytes], base: Optional[int] = None) -> Dict[str, Any]:
@@ -362,11 +362,15 @@ class Workspace(Reacting):
         count and the seed: a press is answered with the latest only, so that it costs the same
         however long the session has grown."""
         with self.lock:
-            inputs, seed = self.preview.inputs, self.preview.seed
-        pressed = [i for i in inputs if isinstance(i, Command)]
-        shown = pressed if whole else pressed[-SHOWN_PRESSES:]
-        presses = [{"at": p.at, "command": p.script.source.strip()} for p in shown]
-        return {"presses": presses, "count": len(pressed), "seed": seed}
+            inputs, seed, count = self.preview.inputs, self.preview.seed, self.preview.commands
+        shown: List[Command] = []
+        for item in reversed(inputs):  # the latest first, as far back as shown
+            if not whole and len(shown) == SHOWN_PRESSES:
+                break
+            if isinstance(item, Command):
+                shown.append(item)
+        presses = [{"at": p.at, "command": p.script.source.strip()} for p in reversed(shown)]
+        return {"presses": presses, "count": count, "seed": seed}
 
     def clear_session(self) -> Dict[str, Any]:
         with self.lock:
@@ -396,7 +400,7 @@ class Workspace(Reacting):
                     target = self.folder / f"session-{stamp}-{number}.jsonl"
                 self._exported[key] = target
             preview = self.preview
-            text = exported(preview.script, self.name, list(preview.inputs), preview.seed)
+            text = exported(preview.script, self.name, preview.inputs, preview.seed)
         write_atomic(target, text.encode("utf-8", "surrogatepass"))
         return {"path": target.name, "text": text, **self.export_events(target)}
 

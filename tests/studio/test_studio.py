@@ -587,6 +587,19 @@ def test_a_bad_panel_stops_the_studio_with_one_line(folder):
     )
 
 
+def test_the_docs_show_the_session_export_as_written(tmp_path):
+    (tmp_path / "show.face").write_text("sad\nwait 3s\n")
+    now = [10.0]
+    workspace = Workspace(tmp_path / "show.face", seed=1234, idle=False, clock=lambda: now[0])
+    workspace.transport("seek", 1.5)
+    workspace.press("look left in 2s")
+    now[0] += 0.5
+    workspace.press("sad")
+    doc = (REPO / "docs" / "studio.md").read_text(encoding="utf-8")
+    shown = doc.split('```json\n{"type": "start"')[1].split("```")[0]
+    assert '{"type": "start"' + shown == workspace.export_session()["text"]
+
+
 def test_scripts_are_parsed_one_at_a_time_and_a_long_queue_is_refused():
     import asyncio
     import threading

@@ -95,7 +95,7 @@ def test_the_studio_goes_on_with_an_edit_as_the_script_run_again_shows_it(tmp_pa
     workspace = Workspace(path, seed=7, idle=False, clock=lambda: 0.0)
     workspace.update(SCRIPT)
     kept = events()
-    workspace.preview.inputs = list(kept)
+    workspace.preview.inputs = kept
     workspace.update(SCRIPT + " ")  # the run over the events, as the studio keeps it
     shown_before = workspace.preview.run
     edit = EDITS["the late handler"][0]

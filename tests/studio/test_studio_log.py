@@ -43,11 +43,16 @@ def test_the_log_replays_the_preview_the_studio_showed_after_edits_events_sought
     fire(1.5, n.Event("touch", "mouth"))  # sought back, before the other
     studio.update(SCRIPT.replace("happy", "angry"))  # the events run again over the edit
     fire(5.0, n.Event("signal", "poke"))
+    now[0] += 0.5
+    studio.transport("pause")
+    studio.transport("seek", 2.2)
+    assert studio.press("look left in 0.5s\nsurprise") == {"at": 2.2}  # a command: it takes over there
     record.close(now[0])
 
     got = records(path)
     assert got[0]["type"] == "start" and got[0]["settings"] == {"end": "studio", "seed": 11}
-    assert [r["source"] for r in got if r["type"] == "script"] == ["greeter.face", "greeter.face"]
+    assert [r["source"] for r in got if r["type"] == "script"] == ["greeter.face", "greeter.face", "panel"]
+    assert [(r["at"], r["text"]) for r in got if r.get("press")] == [(2.2, "look left in 0.5s\nsurprise")]
     assert [(r["event"], r["at"]) for r in got if r["type"] == "event"] == [
         ("signal poke", 1.0), ("signal poke", 4.0), ("signal poke", 3.0), ("touch mouth", 1.5),
         ("signal poke", 5.0),
@@ -68,6 +73,8 @@ def test_the_log_replays_the_preview_the_studio_showed_after_edits_events_sought
         (3.0, "signal"),
         (5.0, "signal"),
     ]
+    pressed = [(later.at, later.script.source) for later in replay.later]
+    assert pressed == [(2.2, "look left in 0.5s\nsurprise")]
     run = run_log(replay, replay.seed)
     preview = studio.preview.animation
     assert run.timeline.duration == pytest.approx(preview.duration)
