@@ -34,7 +34,7 @@ half-open: at the studio and at the screen, started with `ulimit -n 1024`,
 GET /api/state once a second for 40 s: how many answers it gets, the first
 one after how long, and how much the server wrote to its log.
 
-presses (issue 43: 9a): the studio (idle on) and 1,000 presses of the default panel's buttons
+presses (issue 43: 9a): the studio (idle off) and 1,000 presses of the default panel's buttons
 (PRESSES=10000 in the environment for 10,000, the most a session holds) posted back to back over
 one keep-alive connection: the median time of the 20 presses around the 1st, 100th, 500th,
 1,000th and 10,000th, each as a ratio to the first 20's (the baseline, measured in the same run),

@@ -52,8 +52,8 @@ def studio(
 
     An editor with check's diagnostics as you type, a live preview drawn by
     the face's own renderer, and a button panel for live sessions whose
-    presses play at once (and on the robot, when switched on) and export as
-    a script that replays them. Serves on 127.0.0.1:8080 until Ctrl-C.
+    presses take over at once (and on the robot, when switched on) and export
+    as a log that render replays. Serves on 127.0.0.1:8080 until Ctrl-C.
     """
     from ..extras import need
     from ..studio.panel import PanelError
