@@ -126,6 +126,28 @@ def test_a_bad_press_changes_nothing_and_says_why(tmp_path):
     assert workspace.session()["count"] == 2
 
 
+def test_a_press_that_fails_midway_leaves_the_session_as_it_was(tmp_path):
+    # Its first step plays; its second, a recording outside the script's folder, fails as the run
+    # goes on to its end: what the first added to the kept run is taken back.
+    (tmp_path / "show.face").write_text("happy\n")
+    now = [0.0]
+    workspace = Workspace(tmp_path / "show.face", seed=7, idle=False, clock=lambda: now[0])
+    workspace.press("sad")
+    now[0] = 1.0
+    run = workspace.preview.run
+    kept = (list(run.played), list(run.lines))
+    with pytest.raises(ScriptError, match="outside"):
+        workspace.press('look left in 1s\nsay file "../outside.wav"')
+    assert workspace.preview.run is run and (run.played, run.lines) == kept
+    now[0] = 2.0
+    workspace.press("look right in 0.5s")
+    replay = replayed(tmp_path, workspace)
+    shown = workspace.preview.animation.timeline
+    frames = [i / 30 for i in range(int(shown.duration * 30) + 1)]
+    assert [replay.sample(t) for t in frames] == [shown.sample(t) for t in frames]
+    assert [p["command"] for p in workspace.session()["presses"]] == ["sad", "look right in 0.5s"]
+
+
 def test_the_transport_plays_pauses_seeks_and_loops():
     transport = Transport()
     assert transport.position(10.0, 4.0) == 0.0
