@@ -127,7 +127,8 @@ def finish(
     under *= inv
     div255_inplace(under)
     under += prem
-    np.minimum(under, 255, out=under)
+    # numpy's uint16 minimum against one number is many times slower than against an array of it.
+    np.minimum(under, np.full(under.shape, 255, np.uint16), out=under)
     if out is None:
         return under.astype(np.uint8)
     np.copyto(out, under, casting="unsafe")
