@@ -32,11 +32,25 @@ class Pose(NamedTuple):
     sizes: Tuple[int, ...] = ()  # the drawn face's eye sizes, in 1/EYE_STEPS
 
 
+LidPose = Tuple[Tuple[int, ...], ...]  # a pose but where the eyes look: Pose's fields from lid_dy on
+
+
 def pose(layers: ThemeLayers, state: FaceState) -> Pose:
     """Screen offsets for a state: eyes clamped to their ellipse, each lid to 0..1."""
+    return looking(layers, state, lid_pose(layers, state))
+
+
+def looking(layers: ThemeLayers, state: FaceState, lids: LidPose) -> Pose:
+    """`state`'s pose, its lids `lid_pose(layers, state)`: where the eyes look is all a look changes."""
     # A state is plain data anyone can build: a number that is not finite
     # draws as the rest position rather than failing.
     x, y = clamp_to_ellipse(*(v if math.isfinite(v) else 0.0 for v in (state.eye_x, state.eye_y)))
+    return Pose(round_half_away(x * layers.scale), round_half_away(y * layers.scale), *lids)
+
+
+def lid_pose(layers: ThemeLayers, state: FaceState) -> LidPose:
+    """The lids of `state`'s pose, and the drawn face's pupil sizes and eye sizes: all but where
+    the eyes look, from `state.eyelids` and `state.expression` alone."""
     openness = _unit(state.eyelids)
     shape = state.expression
     share = (1.0, 1.0) if shape is None else (_unit(shape.lid_right), _unit(shape.lid_left))
@@ -45,15 +59,15 @@ def pose(layers: ThemeLayers, state: FaceState) -> Pose:
     drawn = layers.drawn is not None and shape is not None and len(layers.eyes) == 2 == len(layers.lids)
     pupils, tilts, sizes = layers.drawn.eye_keys(shape) if drawn else ((), (), (EYE_STEPS, EYE_STEPS))  # type: ignore[union-attr]
     # The lid left of the screen's middle is the robot's right eye's; a larger eye's travels further.
-    lids = []
+    upper = []
     for lid in layers.lids:
         i = 0 if lid.x + lid.width / 2 < middle else 1
-        lids.append(-round_half_away(layers.lid_travel * openness * share[i] * sizes[i] / EYE_STEPS))
+        upper.append(-round_half_away(layers.lid_travel * openness * share[i] * sizes[i] / EYE_STEPS))
     if not drawn:
-        return Pose(round_half_away(x * s), round_half_away(y * s), tuple(lids))
+        return (tuple(upper),)
     risen = (_unit(shape.lower_lid_right, 0.0), _unit(shape.lower_lid_left, 0.0))
     lower = tuple(round_half_away((1.0 - r) * LOWER_TRAVEL * s * k / EYE_STEPS) for r, k in zip(risen, sizes))
-    return Pose(round_half_away(x * s), round_half_away(y * s), tuple(lids), pupils, tilts, lower, sizes)
+    return (tuple(upper), pupils, tilts, lower, sizes)
 
 
 def eye_sprite(layers: ThemeLayers, at: Pose, i: int) -> Sprite:

@@ -24,7 +24,17 @@ import numpy as np
 from ..core.face_state import FaceState, Parts
 from ..core.presets import expression_of
 from .compositing import Rect, Sprite, finish, intersect
-from .pose import LOWER_TRAVEL, Pose, eye_sprite, lid_sprite, lower_lid_sprite, pose, round_half_away
+from .pose import (
+    LOWER_TRAVEL,
+    LidPose,
+    Pose,
+    eye_sprite,
+    lid_pose,
+    lid_sprite,
+    looking,
+    lower_lid_sprite,
+    round_half_away,
+)
 from .stacks import TopStack, bottom_stack, crossfade, skin_stack, socket_boxes, top_stack
 from .theme_fitting import ThemeLayers
 
@@ -164,6 +174,7 @@ class Renderer:
         self.changed: Optional[List[Rect]] = None
         self._dirty: Optional[List[Rect]] = None  # where this render has drawn, as it goes
         self._last: Optional[np.ndarray] = None  # what the render before returned
+        self._lids: Tuple[Any, LidPose] = (None, ())  # the last state's eyelids and expression, their lids
 
     @property
     def size(self) -> Tuple[int, int]:
@@ -189,7 +200,7 @@ class Renderer:
     def frame_key(self, state: FaceState) -> Any:
         """A value equal for two states exactly when their frames are the same: a sink that
         sends only changed frames compares these instead of drawing."""
-        at = pose(self.layers, state)
+        at = self._pose(state)
         if self.layers.drawn is not None:
             return (at, self.layers.drawn.keys(expression_of(state)))
         fading = state.fade_from is not None and state.fade < 1.0
@@ -200,6 +211,14 @@ class Renderer:
             int(state.fade * 255 + 0.5) if fading else 255,
         )
 
+    def _pose(self, state: FaceState) -> Pose:
+        """`pose(self.layers, state)`, its lids those of the state before when its eyelids and
+        expression are (a look moves the eyes alone)."""
+        key = (state.eyelids, state.expression)
+        if key != self._lids[0]:
+            self._lids = (key, lid_pose(self.layers, state))
+        return looking(self.layers, state, self._lids[1])
+
     def render(self, state: FaceState) -> np.ndarray:
         self._dirty = []
         frame = self._render(state)
@@ -209,7 +228,7 @@ class Renderer:
         return frame
 
     def _render(self, state: FaceState) -> np.ndarray:
-        at = pose(self.layers, state)
+        at = self._pose(state)
         if self.layers.drawn is not None:
             return self._draw(self.layers.drawn.keys(expression_of(state)), at)
         if state.fade_from is None or state.fade >= 1.0:
@@ -310,15 +329,21 @@ class Renderer:
         """Rectangles outside which a move from `old` to `new` changes no pixel."""
         rects: List[Rect] = []
         moved = (old.eye_dx, old.eye_dy) != (new.eye_dx, new.eye_dy)
-        for i in range(len(self.layers.eyes)):
-            before, after = eye_sprite(self.layers, old, i), eye_sprite(self.layers, new, i)
-            if moved or before is not after:
-                a, b = before.rect(old.eye_dx, old.eye_dy), after.rect(new.eye_dx, new.eye_dy)
-                rects.append((min(a[0], b[0]), min(a[1], b[1]), max(a[2], b[2]), max(a[3], b[3])))
-        for i, (was, now) in enumerate(zip(old.lid_dy, new.lid_dy)):
-            before, _ = lid_sprite(self.layers, old, i)
-            lid, band = lid_sprite(self.layers, new, i)
-            rects += _slid(before, lid, band, was, now)
+        # A pupil's sprite is its size, a lid's its eye's tilt and size: where those and their
+        # places are kept, nothing of them changed (a look moves the pupils only).
+        if moved or old.pupils != new.pupils:
+            for i in range(len(self.layers.eyes)):
+                before, after = eye_sprite(self.layers, old, i), eye_sprite(self.layers, new, i)
+                if moved or before is not after:
+                    a, b = before.rect(old.eye_dx, old.eye_dy), after.rect(new.eye_dx, new.eye_dy)
+                    rects.append((min(a[0], b[0]), min(a[1], b[1]), max(a[2], b[2]), max(a[3], b[3])))
+        if (old.lid_dy, old.tilts, old.sizes) != (new.lid_dy, new.tilts, new.sizes):
+            for i, (was, now) in enumerate(zip(old.lid_dy, new.lid_dy)):
+                before, _ = lid_sprite(self.layers, old, i)
+                lid, band = lid_sprite(self.layers, new, i)
+                rects += _slid(before, lid, band, was, now)
+        if (old.lower_dy, old.sizes) == (new.lower_dy, new.sizes):
+            return rects
         if old.lower_dy or new.lower_dy:  # none drawn is the same as sunk out of sight
             sunk = (round_half_away(LOWER_TRAVEL * self.layers.scale),) * 2
             for i, (was, now) in enumerate(zip(old.lower_dy or sunk, new.lower_dy or sunk)):
