@@ -11,6 +11,9 @@ from .presets import DEFAULT_FACE, Parts, from_parts, nearest_parts
 
 __all__ = ["FaceState", "Parts"]
 
+# Fields that `__init__` stores as given, whatever the others: a look changes only these.
+_PLAIN = frozenset({"eye_x", "eye_y", "eyelids", "head_pan", "emotion", "mood"})
+
 
 @dataclass(frozen=True, init=False)
 class FaceState:
@@ -111,6 +114,10 @@ class FaceState:
         return self.parts.brows
 
     def replace(self, **changes: Any) -> FaceState:
+        if changes.keys() <= _PLAIN:  # nothing is worked out from these: the state copied as is
+            state = object.__new__(type(self))
+            state.__dict__.update(self.__dict__, **changes)
+            return state
         return dataclasses.replace(self, **changes)
 
     def as_record(self) -> Dict[str, Any]:

@@ -45,7 +45,9 @@ class Sprite(NamedTuple):
         return self.rgb_a.shape[1]
 
     def rect(self, dx: int = 0, dy: int = 0) -> Rect:
-        return (self.x + dx, self.y + dy, self.x + dx + self.width, self.y + dy + self.height)
+        h, w = self.rgb_a.shape[:2]  # asked for every layer of every frame: no properties
+        x, y = self.x + dx, self.y + dy
+        return (x, y, x + w, y + h)
 
 
 def sprite_from_rgba(rgba: np.ndarray, x: int = 0, y: int = 0) -> Optional[Sprite]:
