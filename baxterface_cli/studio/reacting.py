@@ -264,8 +264,8 @@ class Reacting:
         header = (
             f"# baxterface studio session: {self.name} with {len(events)} event"
             + ("" if len(events) == 1 else "s")
-            + f" fired by hand\n# replays exactly with: baxterface play {script_path.name} "
-            f"--events {events_path.name} --seed {seed}\n"
+            + f" fired by hand\n# replays exactly with: baxterface render {script_path.name} "
+            f"--events {events_path.name} --seed {seed} --out {script_path.stem}.mp4\n"
         )
         written = events_text(events)
         write_atomic(script_path, (header + source).encode("utf-8", "surrogatepass"))

@@ -76,7 +76,7 @@ def test_events_fired_at_a_real_studio_play_and_export_with_the_script(tmp_path)
     replayed = tmp_path / exported["script_path"]
     assert GREETER in replayed.read_text()
     command = re.search(r"replays exactly with: baxterface (.*)", replayed.read_text()).group(1).split()
-    assert command[:2] == ["play", replayed.name] and "--events" in command
+    assert command[:2] == ["render", replayed.name] and "--events" in command and "--out" in command
     done = subprocess.run(
         [baxterface(), "explain", str(replayed), "--events", str(tmp_path / exported["events_path"])]
         + ["--seed", "7"],
