@@ -31,9 +31,10 @@ STUDIO_EXTRAS := speech,studio
 # ROS 1 std_msgs and sensor_msgs (Debian's) ROS 2's own would hide. On 3.8 the extra installs nothing,
 # as `voices` (the natural voices, Python 3.9+) does not.
 ROS1_EXTRAS := test,video,bag,speech,lipsync,camera,studio,annotate
-# Moonshine's listener (onnxruntime) is not put beside Debian's numpy in .venv-ros: the node there
-# listens with the lipsync extra's spotter.
-EXTRAS := $(ROS1_EXTRAS),hear,ros2,voices
+# Moonshine's listener (hear) goes into .venv-ros too: onnxruntime's wheels (1.32) load beside
+# Debian's NumPy 1.24, kept there by the constraint below, so the node hears with Moonshine.
+ROS_EXTRAS := $(ROS1_EXTRAS),hear
+EXTRAS := $(ROS_EXTRAS),ros2,voices
 # Modules are compiled as they are first imported rather than all at install (most never are)...
 PIP_OPTS := --quiet --disable-pip-version-check --no-compile
 # ...and kept: with PYTHONDONTWRITEBYTECODE set (as some CI images do), every process of the tests
@@ -100,7 +101,7 @@ $(VENV_ROS)/.installed: pyproject.toml | system
 	$(ROS_PYTHON) -m venv --system-site-packages $(VENV_ROS)
 	@# Keep Debian's NumPy: its cv_bridge is built against it.
 	$(ROS_PYTHON) -c 'import numpy; print("numpy==" + numpy.__version__)' > $(VENV_ROS)/constraints.txt
-	$(VENV_ROS)/bin/pip install $(PIP_OPTS) -c $(VENV_ROS)/constraints.txt -e '.[$(ROS1_EXTRAS)]'
+	$(VENV_ROS)/bin/pip install $(PIP_OPTS) -c $(VENV_ROS)/constraints.txt -e '.[$(ROS_EXTRAS)]'
 	touch $@
 
 # Debian packages: what every suite needs (system-base: Xvfb, ffmpeg, espeak-ng, sox, chromium),

@@ -32,3 +32,17 @@ def test_make_test_installs_every_extra(tmp_path):
     extras, _ = planned_installs("test", tmp_path)
     wanted = {"test", "video", "bag", "speech", "lipsync", "camera", "studio", "voices", "hear"}
     assert any(wanted <= set(line.split(",")) for line in extras), extras
+
+
+def test_the_ros_environment_hears_with_moonshine_beside_debians_numpy(tmp_path):
+    plan = subprocess.run(
+        ["make", "-n", "venv-ros", f"VENV_ROS={tmp_path / 'ros'}"],
+        cwd=str(ROOT),
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    assert plan.returncode == 0, plan.stderr
+    install = next(line for line in plan.stdout.splitlines() if "pip install" in line)
+    assert "hear" in re.findall(r"-e '\.\[([a-z0-9,]*)\]'", install)[0].split(",")
+    assert f"-c {tmp_path / 'ros'}/constraints.txt" in install  # Debian's NumPy kept
