@@ -25,8 +25,8 @@ in tests/ros/visitor/, after 1 to 1.3 s of silence, so that the word ends at ano
 the 50 ms blocks each run), and `on word "robot" { skin 3 }` sent to it once both skins were
 shown: the word's end is the recording's last sample above 5 % of its loudest, after the wall
 time the node logs for the recording's start, and the frame's time is when it reached this
-process (wall time too); p50 and p95 of each listener, and beside them, in the same run, plain
-commands on display_chatter (the baseline).
+process (wall time too); p50 and p95 of each listener, its node's resident memory once it heard,
+and beside them, in the same run, plain commands on display_chatter (the baseline).
 Prints JSON.
 """
 
@@ -294,12 +294,13 @@ def word(count):
     plain = []
     try:
         for listener in ("moonshine", "spotter"):
-            words, missed = [], 0
+            words, missed, rss = [], 0, []
             for i in range(count):
                 voice = ("joe", "heart")[i % 2]
                 wav = folder / f"{voice}-{i}.wav"  # the word ends at a new point of the blocks each run
                 word_end = placed(voice, "look at that robot", 1.0 + 0.3 * rng.random(), wav)
-                heard_after, baseline = _word_round(wav, word_end, frames, state, chatter, listener)
+                heard_after, baseline, kib = _word_round(wav, word_end, frames, state, chatter, listener)
+                rss.append(kib)
                 if heard_after is None:
                     missed += 1
                 else:
@@ -311,6 +312,7 @@ def word(count):
                 "word_to_frame_ms": [round(x, 1) for x in words],
                 "p50_ms": round(statistics.median(ranked), 1) if ranked else None,
                 "p95_ms": round(ranked[min(len(ranked) - 1, int(0.95 * len(ranked)))], 1) if ranked else None,
+                "node_rss_mib_after_hearing": [round(min(rss) / 1024), round(max(rss) / 1024)],
             }
     finally:
         link.close()
@@ -324,7 +326,7 @@ def word(count):
 
 def _word_round(wav, word_end, frames, state, chatter, listener):
     """One node hearing the recording: ms from the word's end to its frame (None: not heard in 10
-    s), and plain commands'."""
+    s), plain commands', and the node's resident memory (KiB) after them."""
     argv = [sys.executable, "-m", "baxterface_cli", "node", *node_args(1), f"_listen:={wav}"]
     env = dict(os.environ, BAXTERFACE_LISTENER=listener)
     proc = subprocess.Popen(argv, cwd=str(ROOT), stdout=subprocess.PIPE, text=True, env=env)
@@ -355,7 +357,7 @@ def _word_round(wav, word_end, frames, state, chatter, listener):
             chatter.publish(data=["skin_1", "skin_3"][i % 2])
             return sent
 
-        return heard_after, timed(frames, command, 6)
+        return heard_after, timed(frames, command, 6), rss_kib(proc.pid)
     finally:
         proc.send_signal(signal.SIGTERM)
         proc.wait(timeout=30)
