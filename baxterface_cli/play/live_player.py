@@ -18,6 +18,7 @@ so each step's speech is known, and started, before the frame that begins it is 
 from __future__ import annotations
 
 import contextlib
+import math
 import queue
 import time
 from typing import Any, Callable, List, Optional, Tuple
@@ -90,6 +91,7 @@ class LivePlayer:
         self.lead = 0.0  # how far the session runs ahead of the picture: the sound's latency
         self.frames_shown = 0
         self.position = 0.0  # the time of the last frame shown
+        self._lap_end = 0.0  # with --loop, where the lap before ended: its last frames come at t < 0
         self.note = ""
         self._trace: List[Any] = []  # the file's events still to come
         self._showing: List[Any] = []  # what the face showed since the picture's time, oldest first
@@ -153,19 +155,19 @@ class LivePlayer:
                 assert self.origin is not None
                 t = max(index / self.fps, self.clock() - self.origin)  # a late frame is dropped
                 end = self._take(t)
+                if loop and end is not None and end > 0 and self.fresh is not None and t + self.lead >= end:
+                    self._next_lap(end)  # as the session ahead reaches the end: laps back to back
+                    index = math.floor((t - end) * self.fps + 1e-9)
+                    continue
                 if end is not None and t >= end:
                     self._show(end)
-                    if loop and end > 0 and self.fresh is not None:
-                        self._start(self.fresh(), self.origin + end)
-                        index = 0
-                        continue
                     if not (loop or hold):
                         ended = True  # the last words are out but for what the device still holds
                         break
                     self.sleep(1.0 / self.fps)  # keep the last frame, and keep polling
                     continue
                 # A hair over each tick counts as there (float rounding).
-                index = int(t * self.fps + 1e-9)
+                index = math.floor(t * self.fps + 1e-9)
                 self._show(index / self.fps)
                 if self._cues is not None:
                     self._cues.tick(self.clock())
@@ -210,6 +212,24 @@ class LivePlayer:
         self._showing = [session.face.showing]
         self._robots = [(float("-inf"), session.face.robot)]
         self._cues = self._spoken = None
+        self._said = SpeakingTimes()
+
+    def _next_lap(self, end: float) -> None:
+        """`--loop`: a fresh session, whose t = 0 is this lap's `end`, taken on from now, when the
+        session (run `lead` ahead of the picture) has come to that end: its first words go to the
+        sound device in time, so laps follow each other without a gap. The picture still shows this
+        lap's last `lead` seconds, at t < 0 on the new lap's clock, from what the face showed."""
+        assert self.origin is not None and self.fresh is not None
+        session = self.fresh()
+        self._showing = [(timeline, started - end, idle) for timeline, started, idle in self._showing]
+        self._showing.append(session.face.showing)
+        self._robots = [(at - end, robot) for at, robot in self._robots]
+        self._robots.append((0.0, session.face.robot))
+        self.session, self.origin, self._lap_end = session, self.origin + end, end
+        if self.record is not None:
+            self.record.watch(session.face)
+        self._trace = list(self.posts)
+        self._spoken = None  # its first words are followed as they begin; the lap before's are out
         self._said = SpeakingTimes()
 
     def _take(self, t: float) -> Optional[float]:
@@ -262,7 +282,8 @@ class LivePlayer:
         self.session.post(event, at, source)
 
     def _show(self, t: float) -> None:
-        self.position = t
+        lap_t = t + self._lap_end if t < 0 else t  # the lap before's last frames, at its own times
+        self.position = lap_t
         # What the face showed at `t`: the session may have begun newer steps in its lead since.
         while len(self._showing) > 1 and self._showing[1][1] <= t:
             self._showing.pop(0)
@@ -272,10 +293,10 @@ class LivePlayer:
         robot = self._robots[0][1]
         note = self.note
         if self.follow is not None:
-            state = self.follow.look(state, t, robot)
+            state = self.follow.look(state, lap_t, robot)
             note = "  ".join(filter(None, (self.follow.note(), note)))
         self._state = state
-        status = status_line(t, self.length(), robot, state.head_pan, note)
+        status = status_line(lap_t, self.length(), robot, state.head_pan, note)
         self.screen.show(self.renderer.render(state), status)
         self.frames_shown += 1
 

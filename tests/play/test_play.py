@@ -206,12 +206,12 @@ def test_looping_starts_the_script_again_at_its_end_from_its_first_face():
             super().show(frame, status)
 
     screen = Screen(clock, lambda: 0.0)
-    screen.alive = lambda: len(screen.shown) < 50  # a lap is 0.8 s: 24 frames and its last
+    screen.alive = lambda: len(screen.shown) < 50  # a lap is 0.8 s: 24 frames
     player = playing("happy; look 40 -20 in 0.5s", screen, clock)
     player.run(loop=True)
-    # 24 frames to 0.77 s and one at its end, 0.8 s: then the next lap's first.
+    # 24 frames, to 0.77 s (shown as 0.8): then the next lap's first, at its end.
     laps = [i for i in range(1, 50) if screen.shown[i] == "0.0" and screen.shown[i - 1] == "0.8"]
-    assert laps == [25] and clock.now - 100.0 == pytest.approx(1.6, abs=1 / 30)  # two laps
+    assert laps == [24, 48] and clock.now - 100.0 == pytest.approx(50 / 30, abs=1 / 30)
     again = laps[0]
     assert np.array_equal(frames[again], frames[0])  # a fresh session: the first face, not the last
     assert not np.array_equal(frames[again - 1], frames[0])
@@ -376,14 +376,15 @@ def test_an_utterance_started_late_skips_what_it_missed_and_keeps_to_the_script_
 
 def test_looping_says_it_again_each_time_round_and_stops_when_closed():
     player, screen, sound, _ = speaking_player('say "again"; wait 0.1s', cost=0.0)
-    lead = 0.12 + START_AHEAD  # each lap starts its session that far ahead of its picture
-    # Five laps: the sixth's session would start as the fifth's picture ends.
-    screen.alive = lambda: screen.clock.now < 100.0 + lead + 4 * (0.5 + lead) + 0.45
+    lead = 0.12 + START_AHEAD  # the session runs that far ahead of the picture, the next lap's too
+    # Five laps: the sixth's session would start `lead` before the fifth's picture ends.
+    screen.alive = lambda: screen.clock.now < 100.0 + 4 * 0.5 + 0.45
     player.run(loop=True)
     assert len(sound.heard) == 5 and sound.cut == [0.0] * 5  # each lap's words whole
+    assert sound.heard[0] == pytest.approx(100.0 + lead)
     laps = np.diff(sound.heard)
-    assert laps == pytest.approx([0.5 + lead] * 4)
-    assert sound.stops == 6  # at the start and each lap's, and as the window closed
+    assert laps == pytest.approx([0.5] * 4)  # back to back, as the picture's laps
+    assert sound.stops == 2  # at the start, and as the window closed: a lap does not cut the last
 
 
 def test_a_script_that_says_nothing_opens_no_sound():
