@@ -55,7 +55,7 @@ export UV_NATIVE_TLS := 1
 JOBS ?= 2
 MAIN_JOBS ?= 3
 
-.PHONY: play test test-busy test-python test-python38 test-ros test-realtime test-realtime-sound test-realtime-ros lint format golden theme pictures bench system system-base system-play venv \
+.PHONY: play test test-suites test-busy test-python test-python38 test-ros test-realtime test-realtime-sound test-realtime-ros lint format golden theme pictures bench system system-base system-play venv \
 	venv-play venv-studio venv38 venv-ros ros clean editor studio
 
 # `venv` is the full one the tests, lint and benchmarks use; play and studio make smaller ones first.
@@ -138,15 +138,21 @@ format: venv
 # the lint), the 3.8 one and the ROS one, each spread over the cores by pytest-xdist.
 # Then the few tests that hear or see real time (marked `realtime`: sound heard to the sample as
 # its frame shows, a bag's frames at their times) run once the suites are done (see test-realtime).
-test:
-	$(MAKE) --no-print-directory -j3 --output-sync=target test-python test-python38 test-ros \
-		BESIDE="and not realtime"
+test: test-suites
 	$(MAKE) --no-print-directory test-realtime
 
-# `make test` with the machine busy beside it: .ci/busy runs two spinning loops a core for as long
-# as the tests run and stops them at the end (a robot runs its face beside other heavy nodes).
+test-suites:
+	$(MAKE) --no-print-directory -j3 --output-sync=target test-python test-python38 test-ros \
+		BESIDE="and not realtime"
+
+# `make test` with the machine busy beside it (a robot runs its face beside other heavy nodes):
+# .ci/busy runs two spinning loops a core as a lane of their own beside the three suites, and
+# stops them when the suites end. The few real-time tests then run as in `make test`: they check
+# the picture, the sound and the robot's commands to within a frame of their times, which no
+# scheduler keeps for a process given a third of a core.
 test-busy:
-	.ci/busy $(MAKE) --no-print-directory test
+	.ci/busy $(MAKE) --no-print-directory test-suites
+	$(MAKE) --no-print-directory test-realtime
 
 test-python: lint system-base
 	$(BIN)/python -m pytest -n $(MAIN_JOBS) --dist loadgroup -m "not ros $(BESIDE)"
