@@ -29,6 +29,7 @@ from .link import Link, Publisher, Subscription
 from .transport import environment
 
 IMAGE = "sensor_msgs/Image"
+MOST_SPIN_FAILURES = 100  # executor errors, while the link is open, before it gives up
 
 
 def _qos(depth: int, latched: bool, sensor: bool) -> Any:
@@ -131,13 +132,22 @@ class RclpyLink(Link):
     def _spin(self) -> None:
         from rclpy.executors import ExternalShutdownException
 
-        try:
-            self.executor.spin()
-        except ExternalShutdownException:
-            pass
-        except Exception as e:  # the context went while a wait was under way: the link is closing
-            if self.ok():
-                self.logger.error(f"the ROS 2 executor stopped: {e}")
+        failures = 0
+        while True:
+            try:
+                self.executor.spin()
+                return
+            except ExternalShutdownException:
+                return
+            except Exception as e:  # noqa: BLE001 - the context went while a wait was under way
+                if not self.ok():  # the link is closing
+                    return
+                # A subscription or publisher closed from another thread while the executor waited
+                # on it ("destruction was requested"): the others still need their messages.
+                failures += 1
+                if failures > MOST_SPIN_FAILURES:
+                    self.logger.error(f"the ROS 2 executor stopped: {e}")
+                    return
 
     def resolve(self, topic: str) -> str:
         return self.node.resolve_topic_name(_ros2_name(topic))
