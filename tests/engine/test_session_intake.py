@@ -175,12 +175,10 @@ def test_a_take_over_let_go_for_a_later_one_still_installs_its_states(live):
     assert "calm" in session.states.known and intake.dropped == 1
 
 
-def test_a_command_that_speaks_starts_once_its_words_are_synthesised_its_sound_whole(live, monkeypatch):
-    # Synthesis takes time (a natural voice 20 to 190 ms, more on a busy machine). Started at its
-    # arrival, the command's first words were behind the clock by then, cut from sound and mouth.
+def slow_synthesis(monkeypatch, clock) -> List[str]:
+    """Each text's first synthesis takes 0.4 s on the test's clock; the texts synthesised, in order."""
     from baxterface_cli.engine import compiler
 
-    session, intake, clock, _ = live
     synthesised: List[str] = []
     real = compiler.engine_say
 
@@ -191,6 +189,14 @@ def test_a_command_that_speaks_starts_once_its_words_are_synthesised_its_sound_w
         return real(text, voice, rate)
 
     monkeypatch.setattr(compiler, "engine_say", slow)
+    return synthesised
+
+
+def test_a_command_that_speaks_starts_once_its_words_are_synthesised_its_sound_whole(live, monkeypatch):
+    # Synthesis takes time (a natural voice 20 to 190 ms, more on a busy machine). Started at its
+    # arrival, the command's first words were behind the clock by then, cut from sound and mouth.
+    session, intake, clock, _ = live
+    synthesised = slow_synthesis(monkeypatch, clock)
     intake.submit('say "Hello there"')
     eventually(lambda: session.face.timeline.speech)
     assert synthesised == ["Hello there"]  # once: ahead, and kept for the compile
@@ -201,19 +207,8 @@ def test_a_command_that_speaks_starts_once_its_words_are_synthesised_its_sound_w
 
 def test_an_ask_sent_starts_once_its_question_is_synthesised_not_its_answers(live, monkeypatch):
     # The answers are said later, if ever: making them first would hold the question back.
-    from baxterface_cli.engine import compiler
-
     session, intake, clock, _ = live
-    synthesised: List[str] = []
-    real = compiler.engine_say
-
-    def slow(text, voice, rate):
-        if text not in synthesised:
-            synthesised.append(text)
-            clock.now += 0.4
-        return real(text, voice, rate)
-
-    monkeypatch.setattr(compiler, "engine_say", slow)
+    synthesised = slow_synthesis(monkeypatch, clock)
     intake.submit('ask "Ready?" { "yes" { say "Great" } nothing 3s { say "Bye" } }')
     eventually(lambda: session.face.timeline.speech)
     assert synthesised == ["Ready?"]
