@@ -7,7 +7,7 @@ and `onnxruntime` runs them, as the face finder reads MTCNN's files.
 
 The decoder is greedy, token by token, with its cache; `bias` adds to the score of the tokens that
 spell the phrases listened for, so that a word said unclearly is read as one of them rather than as
-its neighbour ("robot" rather than "road").
+its neighbour ("robot" rather than "road"), within a bound on what it changes in all.
 """
 
 from __future__ import annotations
@@ -111,6 +111,14 @@ class Transcriber:
                     rest = rest[size:]
         return ids
 
+    def spellings(self, text: str) -> List[List[int]]:
+        """The tokens of `text` as the decoder writes it mid-sentence, and capitalised as at a
+        sentence's start (other tokens: "Go" is not "go"). An answer is most often said alone, so
+        the bias has to reach its capitalised spelling: with the lower case alone, joe's fast "go
+        on" was heard as "Dillon"."""
+        first = text[:1].upper() + text[1:]
+        return [self.spelling(text)] + ([self.spelling(first)] if first != text else [])
+
     def text(self, ids: Sequence[int]) -> str:
         data = b"".join(bytes([i - 3]) if i in BYTE_TOKENS else self.tokens[i] for i in ids)
         return data.decode("utf-8", "replace").replace(SPACE, " ").strip()
@@ -119,7 +127,11 @@ class Transcriber:
         self, samples: np.ndarray, favoured: Sequence[Sequence[int]] = (), bias: float = 0.0
     ) -> str:
         """The words said in `samples` (int16 or float in [-1, 1], 16 kHz); `bias` is added to the
-        scores of the tokens that begin or go on with a `favoured` spelling (see `lifted`)."""
+        scores of the tokens that begin or go on with a `favoured` spelling (see `lifted`). What it
+        may change in a text is bounded by `bias` in all, summed over the tokens it chose against
+        the model's own best (their scores' difference): one word said unclearly is read as a
+        phrase's, but a phrase is not made up from noise token by token (a chain of lifts heard
+        "what is your name" in the first second of "well, no thanks")."""
         scale = 32768.0 if np.issubdtype(np.asarray(samples).dtype, np.integer) else 1.0
         sound = (np.asarray(samples, np.float32) / scale).reshape(1, -1)
         if sound.shape[1] < RATE // 4:  # the encoder needs a quarter of a second at least
@@ -139,6 +151,7 @@ class Transcriber:
         }
         said: List[int] = []
         last, cached = START, False
+        spent = 0.0  # what the bias has cost the text so far (see `transcribe`)
         for _ in range(int(sound.shape[1] / RATE * TOKENS_A_SECOND) + 4):
             feed = {
                 "input_ids": np.array([[last]], np.int64),
@@ -149,11 +162,15 @@ class Transcriber:
             }
             results = self.decoder.run(None, feed)
             scores = results[0][0, -1]
+            last = int(scores.argmax())
             lift = lifted(favoured, said) if bias else []
             if lift:
-                scores = scores.copy()
-                scores[lift] += bias
-            last = int(scores.argmax())
+                raised = scores.copy()
+                raised[lift] += bias
+                choice = int(raised.argmax())
+                cost = float(scores[last] - scores[choice])  # how much less likely the text is for it
+                if spent + cost <= bias:
+                    last, spent = choice, spent + cost
             for name, value in zip(self._outputs[1:], results[1:]):
                 if not cached or ".decoder." in name:  # the encoder's part is the same at every step
                     past[name.replace("present", "past_key_values")] = value
