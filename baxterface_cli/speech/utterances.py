@@ -7,7 +7,8 @@ start) and ends after `END_QUIET` under `OFFSET`; a chunk near the room's floor,
 loudest of the last seconds, is quiet whatever the detector says (voices further away are speech,
 but not the visitor's). While it goes on, Moonshine (moonshine.py)
 transcribes its last `WINDOW` seconds every `HOP`; a phrase found as whole words in two looks in a
-row, or in one after `SURE` of quiet (the last word is whole then), is told to `on_word` at once.
+row, or in one after `SURE` of quiet (the last word is whole then), is told to `on_word` at once;
+a look that finds a phrase not yet told is followed by the next after `CONFIRM`, not `HOP`.
 When the utterance ends it is transcribed whole, in `PAD` of silence, the bias reaching the phrases
 capitalised too (as said alone, an answer): each phrase is told as many more times as it says it
 (`times`), and its words go to `on_heard`.
@@ -52,6 +53,7 @@ UNDER = 10 ** (-10 / 20)  # and 10 dB under the loudest, at most
 SMOOTH = 0.38  # seconds the level is measured over
 CPU_SHARE = 0.5  # of a core, at most, that the looks take while someone speaks
 SURE = 0.15  # seconds of quiet after which a look's phrases are told at once, not at the next
+CONFIRM = 0.1  # seconds of sound after a look that found a phrase, and the look that confirms it
 BIAS = 2.0  # added to the scores of the tokens spelling the phrases: bench/bench_hearing.py --tune
 PAD = 0.4  # seconds of silence before and after an utterance transcribed whole
 ECHO = 0.3  # seconds after the face stops speaking that its voice still fills the room
@@ -158,8 +160,10 @@ class UtteranceListener:
         self._spoken = 0  # samples of speech in it
         self._looked = 0  # samples fed at the last look
         self._gap = HOP  # seconds of sound before the next look
+        self._soonest = CONFIRM  # the same, when the last look's phrase is to be confirmed
         self._told: Counts[str] = Counter()  # times each phrase was told in this utterance
         self._seen: Set[str] = set()  # phrases found in the last look
+        self._unsure = False  # the last look found a phrase not yet told: the next comes sooner
 
     def feed(self, block: np.ndarray, end: Optional[float] = None) -> List[Heard]:
         """Take a block of 16 kHz mono int16 samples; the phrases told because of it."""
@@ -211,7 +215,7 @@ class UtteranceListener:
             self._first = first - len(lead)
             self._quiet = self._spoken = 0
             self._looked = first
-            self._told, self._seen = Counter(), set()
+            self._told, self._seen, self._unsure = Counter(), set(), False
             return []
         self._sound.append(chunk)
         if chance < OFFSET:
@@ -222,7 +226,8 @@ class UtteranceListener:
         length = sum(len(s) for s in self._sound)
         if self._quiet >= END_QUIET * RATE or length >= LONGEST * RATE:
             return self._end(origin)
-        if first + CHUNK - self._looked >= self._gap * RATE:
+        gap = self._soonest if self._unsure else self._gap
+        if first + CHUNK - self._looked >= gap * RATE:
             return self._look(origin, first + CHUNK)
         return []
 
@@ -237,6 +242,7 @@ class UtteranceListener:
         cost = time.thread_time() - began
         if self.paced:
             self._gap = max(HOP, cost / CPU_SHARE)
+            self._soonest = max(CONFIRM, cost / CPU_SHARE)
         return words_of(text)
 
     def _look(self, origin: float, upto: int) -> List[Heard]:
@@ -247,7 +253,9 @@ class UtteranceListener:
         # after a pause the last word is whole: what a look then finds is told at once
         stable = seen if self._quiet >= SURE * RATE else seen & self._seen
         self._seen = seen
-        return self._tell([p for p in sorted(stable) if not self._told[p]], origin + upto / RATE, origin)
+        told = self._tell([p for p in sorted(stable) if not self._told[p]], origin + upto / RATE, origin)
+        self._unsure = any(not self._told[p] for p in seen)
+        return told
 
     def _end(self, origin: float) -> List[Heard]:
         sound = np.concatenate(self._sound)
