@@ -3,7 +3,7 @@
     PYTHON bench/bench_reacting.py latency 1|2 [COUNT]   event to the first changed frame
     PYTHON bench/bench_reacting.py storm 1|2 [RATE SECONDS]   events at RATE a second at the node
     PYTHON bench/bench_reacting.py soak [HOURS]   random events against the session alone
-    PYTHON bench/bench_reacting.py word [COUNT]   ROS 1: a word's end to the first changed frame
+    PYTHON bench/bench_reacting.py word [COUNT [LISTENER]]   ROS 1: a word's end to the first changed frame
 
 `latency` and `storm` start the face node (`baxterface node --ros N`, idle off) and talk to it
 through a Link of their own, as any ROS program would: run them with the Python that has that
@@ -19,14 +19,16 @@ each handler's runs and drops (read from ~state), and the node's resident memory
 and after a second storm. `soak` runs a LiveSession on a fast clock (no threads, no waiting)
 for HOURS (1) of random events, and reports memory (tracemalloc) and threads each simulated ten
 minutes and whether the log lost a line. `word` starts the node COUNT (20) times for each
-listener, Moonshine's (the [hear] extra) and then the spotter's (BAXTERFACE_LISTENER=spotter),
+LISTENER named (both by default: Moonshine's, the [hear] extra's, and then the spotter's,
+BAXTERFACE_LISTENER=spotter),
 with `_listen:=` "look at that robot" said by piper's joe and hibari's heart in turn (recordings
 in tests/ros/visitor/, after 1 to 1.3 s of silence, so that the word ends at another point of
 the 50 ms blocks each run), and `on word "robot" { skin 3 }` sent to it once both skins were
 shown: the word's end is the recording's last sample above 5 % of its loudest, after the wall
 time the node logs for the recording's start, and the frame's time is when it reached this
-process (wall time too); p50 and p95 of each listener, its node's resident memory once it heard,
-and beside them, in the same run, plain commands on display_chatter (the baseline).
+process (wall time too); p50 and p95 of each listener, its node's resident memory once it heard
+and how late its ears logged the word, each run; beside them, in the same run, plain commands on
+display_chatter (the baseline). Each node's log is kept beside its recording in the run's folder.
 Prints JSON.
 """
 
@@ -262,6 +264,7 @@ def soak(hours):
     }
 
 
+HEARD_AFTER = re.compile(r'heard word "robot", (\d+\.\d+) s after it ended')
 STARTS_PLAYING = re.compile(r"listening: listening to .* from (\d+\.\d+) \(seconds since the epoch\)")
 
 
@@ -273,7 +276,7 @@ class WallFrames(Frames):
         self.event.set()
 
 
-def word(count):
+def word(count, listeners=("moonshine", "spotter")):
     """Each listener (Moonshine, the [hear] extra's; the spotter, BAXTERFACE_LISTENER=spotter) hears
     "look at that robot" in each natural voice `count` times, one fresh node a time."""
     from baxterface_cli.ros.connect import open_link
@@ -293,14 +296,16 @@ def word(count):
     out = {"load_before": os.getloadavg()}
     plain = []
     try:
-        for listener in ("moonshine", "spotter"):
-            words, missed, rss = [], 0, []
+        for listener in listeners:
+            words, missed, rss, logged = [], 0, [], []
             for i in range(count):
                 voice = ("joe", "heart")[i % 2]
                 wav = folder / f"{voice}-{i}.wav"  # the word ends at a new point of the blocks each run
                 word_end = placed(voice, "look at that robot", 1.0 + 0.3 * rng.random(), wav)
-                heard_after, baseline, kib = _word_round(wav, word_end, frames, state, chatter, listener)
+                round_ = _word_round(wav, word_end, frames, state, chatter, listener)
+                heard_after, baseline, kib, told = round_
                 rss.append(kib)
+                logged.append(told)
                 if heard_after is None:
                     missed += 1
                 else:
@@ -310,9 +315,10 @@ def word(count):
             out[listener] = {
                 "heard": f"{len(words)}/{count}",
                 "word_to_frame_ms": [round(x, 1) for x in words],
+                "node_logged_heard_after_s": logged,
                 "p50_ms": round(statistics.median(ranked), 1) if ranked else None,
                 "p95_ms": round(ranked[min(len(ranked) - 1, int(0.95 * len(ranked)))], 1) if ranked else None,
-                "node_rss_mib_after_hearing": [round(min(rss) / 1024), round(max(rss) / 1024)],
+                "node_rss_mib_after_hearing": [round(kib / 1024) for kib in rss],
             }
     finally:
         link.close()
@@ -326,7 +332,8 @@ def word(count):
 
 def _word_round(wav, word_end, frames, state, chatter, listener):
     """One node hearing the recording: ms from the word's end to its frame (None: not heard in 10
-    s), plain commands', and the node's resident memory (KiB) after them."""
+    s), plain commands', the node's resident memory (KiB) after them, and how late its ears logged
+    the word (seconds after it ended, by the listener's clock; None: not logged)."""
     argv = [sys.executable, "-m", "baxterface_cli", "node", *node_args(1), f"_listen:={wav}"]
     env = dict(os.environ, BAXTERFACE_LISTENER=listener)
     proc = subprocess.Popen(argv, cwd=str(ROOT), stdout=subprocess.PIPE, text=True, env=env)
@@ -357,10 +364,12 @@ def _word_round(wav, word_end, frames, state, chatter, listener):
             chatter.publish(data=["skin_1", "skin_3"][i % 2])
             return sent
 
-        return heard_after, timed(frames, command, 6), rss_kib(proc.pid)
+        told = next((float(m.group(1)) for m in map(HEARD_AFTER.search, lines) if m), None)
+        return heard_after, timed(frames, command, 6), rss_kib(proc.pid), told
     finally:
         proc.send_signal(signal.SIGTERM)
         proc.wait(timeout=30)
+        wav.with_suffix(f".{listener}.log").write_text("".join(lines))  # the node's log, kept beside
 
 
 def main() -> None:
@@ -368,7 +377,8 @@ def main() -> None:
     if what == "latency":
         out = latency(int(sys.argv[2]), int(sys.argv[3]) if len(sys.argv) > 3 else 100)
     elif what == "word":
-        out = word(int(sys.argv[2]) if len(sys.argv) > 2 else 20)
+        listeners = sys.argv[3:] or ["moonshine", "spotter"]
+        out = word(int(sys.argv[2]) if len(sys.argv) > 2 else 20, listeners)
     elif what == "storm":
         rate = int(sys.argv[3]) if len(sys.argv) > 3 else 1000
         out = storm(int(sys.argv[2]), rate, float(sys.argv[4]) if len(sys.argv) > 4 else 10.0)
