@@ -5,8 +5,11 @@ The default theme fitted to a screen (layer_store.py) and the drawn face's palet
 the default theme's pictures, and the numpy and Pillow that rasterise and mix. So each is kept in
 the user's cache folder (core/user_cache.py) under a name with a fingerprint of all of those, and
 loaded back in milliseconds. A file that is missing, damaged or of another fingerprint is made
-again; where the cache cannot be written, nothing is kept. Only plain arrays are stored (no
-pickles): loading a file runs nothing from it.
+again; where the cache cannot be written, nothing is kept. The last `VERSIONS` fingerprints used
+are kept side by side: a robot runs the node in ROS's Python and `play` in another, with another
+numpy, and keeping one had each remake what the other had just made (over a second of work and
+100 MB more at the node's start). Only plain arrays are stored (no pickles): loading a file runs
+nothing from it.
 """
 
 from __future__ import annotations
@@ -22,12 +25,13 @@ from typing import Callable, Dict, Optional, Tuple, TypeVar
 
 import numpy as np
 
-from ..core.user_cache import made_cache_folder
+from ..core.user_cache import made_cache_folder, trim
 from ..resources import resource
 
 Size = Tuple[int, int]
 Arrays = Dict[str, np.ndarray]
 T = TypeVar("T")
+VERSIONS = 3  # fingerprints kept of each thing at each size, the least recently used gone first
 
 
 def kept(
@@ -50,14 +54,14 @@ def kept(
     path = folder / f"{prefix}{fingerprint()}.npz"
     found = _load(path, from_arrays)
     if found is not None:
+        with contextlib.suppress(OSError):
+            os.utime(path)  # used now: kept before versions used less lately
         return found
     made = make()
     arrays = None if made is None else to_arrays(made)
     if arrays is not None:
         _save(path, arrays)
-        for old in folder.glob(f"{prefix}*.npz"):  # another version's: never read again
-            if old != path:
-                _remove(old)
+        trim(folder, f"{prefix}*.npz", most=1 << 62, most_files=VERSIONS)
     return made
 
 

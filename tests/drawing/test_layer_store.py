@@ -3,12 +3,14 @@ frames without reading its pictures."""
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
 import pytest
 
 from baxterface_cli.core.face_state import FaceState
+from baxterface_cli.drawing import array_cache, layer_store, theme_manifest
 from baxterface_cli.drawing import theme as theme_module
-from baxterface_cli.drawing import theme_manifest
 from baxterface_cli.drawing.renderer import Renderer
 from baxterface_cli.drawing.theme import Theme
 from baxterface_cli.drawing.theme_fitting import prepare_layers
@@ -73,14 +75,32 @@ def test_the_kept_layers_are_the_fitted_ones_sprite_for_sprite(cache):
         assert a.inv.dtype == b.inv.dtype and a.rgb_a.dtype == b.rgb_a.dtype
 
 
-def test_a_damaged_kept_theme_is_made_again_and_another_versions_is_removed(cache):
+def test_a_damaged_kept_theme_is_made_again_and_only_the_last_versions_used_are_kept(cache):
     first = frame(fresh_default().layers(SIZE), mouth="smile-open", brows="raised")
     (kept,) = cache.glob("*.npz")
     kept.write_bytes(kept.read_bytes()[:5000])  # cut short, as by a full disk
-    stale = kept.with_name("default-320x188-0123456789abcdef0123.npz")
-    stale.write_bytes(b"an older baxterface's")
+    others = [kept.with_name(f"default-320x188-{k:020d}.npz") for k in range(3)]
+    for age, other in enumerate(others):  # older baxterfaces', or another numpy's, used in turn
+        other.write_bytes(b"another version's")
+        os.utime(other, (1000 + age, 1000 + age))
     assert np.array_equal(frame(fresh_default().layers(SIZE), mouth="smile-open", brows="raised"), first)
-    assert kept.stat().st_size > 5000 and not stale.exists()
+    assert kept.stat().st_size > 5000
+    assert sorted(cache.glob("*.npz")) == sorted([kept, *others[1:]])  # the least lately used is gone
+
+
+def test_two_environments_used_in_turn_each_find_their_theme_kept(cache, monkeypatch):
+    """The node in ROS's Python, `play` in another with another numpy: a fingerprint each. Keeping
+    one, each remade the theme the other had just replaced (a second's work at the node's start)."""
+    made = []
+
+    def counted(folder, name, size, make, *rest):
+        return array_cache.kept(folder, name, size, lambda: made.append(name) or make(), *rest)
+
+    monkeypatch.setattr(layer_store, "kept", counted)
+    for environment in ("ros", "play", "ros", "play"):
+        monkeypatch.setattr(array_cache, "fingerprint", lambda e=environment: f"{e:0>20}")
+        fresh_default().layers(SIZE)
+    assert len(made) == 2 and len(list(cache.glob("*.npz"))) == 2
 
 
 def test_where_nothing_can_be_kept_the_theme_is_still_fitted(tmp_path, monkeypatch):
