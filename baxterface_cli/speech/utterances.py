@@ -159,11 +159,9 @@ class UtteranceListener:
         self._quiet = 0  # samples of quiet at its end
         self._spoken = 0  # samples of speech in it
         self._looked = 0  # samples fed at the last look
-        self._gap = HOP  # seconds of sound before the next look
-        self._soonest = CONFIRM  # the same, when the last look's phrase is to be confirmed
+        self._pace = 0.0  # seconds of sound the last look's work spaces the next one by (live)
         self._told: Counts[str] = Counter()  # times each phrase was told in this utterance
         self._seen: Set[str] = set()  # phrases found in the last look
-        self._unsure = False  # the last look found a phrase not yet told: the next comes sooner
 
     def feed(self, block: np.ndarray, end: Optional[float] = None) -> List[Heard]:
         """Take a block of 16 kHz mono int16 samples; the phrases told because of it."""
@@ -215,7 +213,7 @@ class UtteranceListener:
             self._first = first - len(lead)
             self._quiet = self._spoken = 0
             self._looked = first
-            self._told, self._seen, self._unsure = Counter(), set(), False
+            self._told, self._seen = Counter(), set()
             return []
         self._sound.append(chunk)
         if chance < OFFSET:
@@ -226,7 +224,8 @@ class UtteranceListener:
         length = sum(len(s) for s in self._sound)
         if self._quiet >= END_QUIET * RATE or length >= LONGEST * RATE:
             return self._end(origin)
-        gap = self._soonest if self._unsure else self._gap
+        # a phrase the last look found and did not tell is confirmed sooner than the next hop
+        gap = max(CONFIRM if any(not self._told[p] for p in self._seen) else HOP, self._pace)
         if first + CHUNK - self._looked >= gap * RATE:
             return self._look(origin, first + CHUNK)
         return []
@@ -241,8 +240,7 @@ class UtteranceListener:
         text = self.model.transcribe(sound, self._favoured_whole if whole else self._favoured, self.bias)
         cost = time.thread_time() - began
         if self.paced:
-            self._gap = max(HOP, cost / CPU_SHARE)
-            self._soonest = max(CONFIRM, cost / CPU_SHARE)
+            self._pace = cost / CPU_SHARE
         return words_of(text)
 
     def _look(self, origin: float, upto: int) -> List[Heard]:
@@ -253,9 +251,7 @@ class UtteranceListener:
         # after a pause the last word is whole: what a look then finds is told at once
         stable = seen if self._quiet >= SURE * RATE else seen & self._seen
         self._seen = seen
-        told = self._tell([p for p in sorted(stable) if not self._told[p]], origin + upto / RATE, origin)
-        self._unsure = any(not self._told[p] for p in seen)
-        return told
+        return self._tell([p for p in sorted(stable) if not self._told[p]], origin + upto / RATE, origin)
 
     def _end(self, origin: float) -> List[Heard]:
         sound = np.concatenate(self._sound)

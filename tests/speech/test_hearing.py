@@ -111,7 +111,7 @@ def test_an_answer_said_alone_and_fast_is_heard_wherever_it_falls_among_the_bloc
 def test_a_phrase_is_told_soon_after_it_ends():
     """A look that finds a phrase is confirmed by one 0.1 s later, not at the next hop (0.2 s):
     joe's "robot" was told 0.21 s of sound after it ended (median of ten placements among the
-    blocks), 0.41 s at worst; now 0.11 s, 0.32 s. The looks on a fixed beat (`paced=False`, as
+    blocks), 0.41 s at worst; now 0.10 s, 0.12 s. The looks on a fixed beat (`paced=False`, as
     for a recording), so what is heard does not depend on the machine."""
     said = read_recording(os.path.join(VISITOR, "joe-look-at-that-robot.wav"))
     loud = np.nonzero(np.abs(said.astype(float)) > 0.05 * np.abs(said.astype(float)).max())[0]
