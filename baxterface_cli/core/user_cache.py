@@ -48,10 +48,10 @@ def made_cache_folder(*parts: str) -> Optional[Path]:
     return folder if os.access(folder, os.W_OK) else None
 
 
-def trim(folder: Path, pattern: str, most: int, most_files: Optional[int] = None) -> None:
+def trim(folder: Path, pattern: str, most: Optional[int], most_files: Optional[int] = None) -> None:
     """Remove the files of `folder` matching `pattern` least recently used first (by their
-    modification time, which a reader touches), until they take at most `most` bytes and are
-    at most `most_files` (if given)."""
+    modification time, which a reader touches), until they take at most `most` bytes (if given)
+    and are at most `most_files` (if given)."""
     found = []
     for path in folder.glob(pattern):
         with contextlib.suppress(OSError):
@@ -60,7 +60,7 @@ def trim(folder: Path, pattern: str, most: int, most_files: Optional[int] = None
     total = sum(size for _, size, _ in found)
     count = len(found)
     for _, size, path in sorted(found, key=lambda row: row[0])[:-1]:  # the newest stays, however big
-        if total <= most and (most_files is None or count <= most_files):
+        if (most is None or total <= most) and (most_files is None or count <= most_files):
             break
         count -= 1
         with contextlib.suppress(OSError):

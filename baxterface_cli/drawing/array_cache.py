@@ -61,7 +61,7 @@ def kept(
     arrays = None if made is None else to_arrays(made)
     if arrays is not None:
         _save(path, arrays)
-        trim(folder, f"{prefix}*.npz", most=1 << 62, most_files=VERSIONS)
+        trim(folder, f"{prefix}*.npz", None, most_files=VERSIONS)  # versions counted, not bytes
     return made
 
 
